@@ -1,0 +1,134 @@
+#include "common/scene.h"
+
+#include <cstring>
+
+#include "common/error.h"
+#include "common/h5io.h"
+#include "common/image.h"
+
+namespace tetmvs {
+
+int Scene::num_silhouettes() const {
+  int n = 0;
+  for (const auto& m : sil) n += !m.empty();
+  return n;
+}
+
+void Scene::load_grey() {
+  grey.resize(rgb.size());
+  for (size_t i = 0; i < rgb.size(); ++i) grey[i] = rgb_to_grey(rgb[i]);
+}
+
+bool Scene::in_silhouette(int v, double u, double vv, bool outside_value) const {
+  if (sil[v].empty()) return outside_value;
+  const int x = static_cast<int>(std::lround(u)), y = static_cast<int>(std::lround(vv));
+  if (x < 0 || y < 0 || x >= sil[v].cols || y >= sil[v].rows) return outside_value;
+  return sil[v].at<std::uint8_t>(y, x) != 0;
+}
+
+void write_scene(h5::File& f, const Scene& s) {
+  const int n = s.size();
+  require(n > 0, f.path().string(), ": a scene needs at least one camera");
+  const int W = s.cams[0].width, H = s.cams[0].height;
+  std::vector<std::string> names;
+  std::vector<double> K, R, t;
+  std::vector<std::int32_t> size;
+  for (const auto& c : s.cams) {
+    require(c.width == W && c.height == H, f.path().string(), ": image ", c.name, " is ", c.width,
+            "x", c.height, " but the first image is ", W, "x", H, "; all images must share one size");
+    names.push_back(c.name);
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) {
+        K.push_back(c.K(r, k));
+        R.push_back(c.R(r, k));
+      }
+    for (int k = 0; k < 3; ++k) t.push_back(c.t[k]);
+    size.push_back(c.width);
+    size.push_back(c.height);
+  }
+  const std::uint64_t N = n;
+  f.write_strings("/cameras/names", names);
+  f.write("/cameras/K", K, {N, 3, 3});
+  f.write("/cameras/R", R, {N, 3, 3});
+  f.write("/cameras/t", t, {N, 3});
+  f.write("/cameras/size", size, {N, 2});
+  if (!s.rgb.empty()) {
+    std::vector<std::uint8_t> img(N * H * W * 3);
+    for (int i = 0; i < n; ++i) {
+      const cv::Mat& m = s.rgb[i];
+      require(m.type() == CV_8UC3 && m.cols == W && m.rows == H, "write_scene: bad image ", i);
+      for (int y = 0; y < H; ++y)
+        std::memcpy(&img[((std::size_t(i) * H + y) * W) * 3], m.ptr(y), std::size_t(W) * 3);
+    }
+    f.write("/images/rgb", img.data(), {N, std::uint64_t(H), std::uint64_t(W), 3});
+  }
+  std::vector<std::uint8_t> mask(N * H * W, 0), valid(N, 0);
+  for (int i = 0; i < n; ++i) {
+    if (s.sil.size() <= static_cast<size_t>(i) || s.sil[i].empty()) continue;
+    valid[i] = 1;
+    for (int y = 0; y < H; ++y)
+      std::memcpy(&mask[(std::size_t(i) * H + y) * W], s.sil[i].ptr(y), W);
+  }
+  f.write("/silhouettes/mask", mask.data(), {N, std::uint64_t(H), std::uint64_t(W)});
+  f.write("/silhouettes/valid", valid);
+  const Eigen::Vector3d lo = s.box.min(), hi = s.box.max();
+  f.write("/box/min", std::vector<double>{lo.x(), lo.y(), lo.z()});
+  f.write("/box/max", std::vector<double>{hi.x(), hi.y(), hi.z()});
+  f.set_attr("/box", "source", s.box_source);
+  f.set_attr("/", "dataset", s.dataset);
+}
+
+Scene read_scene(const std::filesystem::path& file, bool images) {
+  auto f = h5::File::open(file, kSceneSchema, kSceneVersion, kSceneVersion);
+  const std::string fn = file.string();
+  Scene s;
+  s.dataset = f.has_attr("/", "dataset") ? f.attr_string("/", "dataset") : "";
+  const auto names = f.read_strings("/cameras/names");
+  const std::int64_t N = names.size();
+  require(N > 0, fn, ": /cameras/names is empty");
+  const auto K = f.read<double>("/cameras/K", {N, 3, 3});
+  const auto R = f.read<double>("/cameras/R", {N, 3, 3});
+  const auto t = f.read<double>("/cameras/t", {N, 3});
+  const auto sz = f.read<std::int32_t>("/cameras/size", {N, 2});
+  s.cams.resize(N);
+  for (std::int64_t i = 0; i < N; ++i) {
+    Camera& c = s.cams[i];
+    c.name = names[i];
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) {
+        c.K(r, k) = K.data[i * 9 + r * 3 + k];
+        c.R(r, k) = R.data[i * 9 + r * 3 + k];
+      }
+    c.t = Eigen::Vector3d(t.data[i * 3], t.data[i * 3 + 1], t.data[i * 3 + 2]);
+    c.width = sz.data[i * 2];
+    c.height = sz.data[i * 2 + 1];
+    require(c.width > 0 && c.height > 0, fn, ": camera ", i, " has a non-positive image size");
+    require(is_rotation(c.R, 1e-4), fn, ": camera ", i, " (", c.name, ") R is not a rotation");
+    require(c.K(0, 0) > 0 && c.K(1, 1) > 0, fn, ": camera ", i, " has non-positive focal length");
+  }
+  const int W = s.cams[0].width, H = s.cams[0].height;
+  if (images) {
+    const auto img = f.read<std::uint8_t>("/images/rgb", {N, H, W, 3});
+    s.rgb.resize(N);
+    for (std::int64_t i = 0; i < N; ++i) {
+      s.rgb[i] = cv::Mat(H, W, CV_8UC3);
+      std::memcpy(s.rgb[i].data, &img.data[std::size_t(i) * H * W * 3], std::size_t(H) * W * 3);
+    }
+  }
+  const auto mask = f.read<std::uint8_t>("/silhouettes/mask", {N, H, W});
+  const auto valid = f.read<std::uint8_t>("/silhouettes/valid", {N});
+  s.sil.resize(N);
+  for (std::int64_t i = 0; i < N; ++i) {
+    if (!valid.data[i]) continue;
+    s.sil[i] = cv::Mat(H, W, CV_8U);
+    std::memcpy(s.sil[i].data, &mask.data[std::size_t(i) * H * W], std::size_t(H) * W);
+  }
+  const auto lo = f.read<double>("/box/min", {3}).data, hi = f.read<double>("/box/max", {3}).data;
+  for (int k = 0; k < 3; ++k)
+    require(lo[k] < hi[k], fn, ": /box/min must be below /box/max on every axis");
+  s.box = Eigen::AlignedBox3d(Eigen::Vector3d(lo[0], lo[1], lo[2]), Eigen::Vector3d(hi[0], hi[1], hi[2]));
+  s.box_source = f.has_attr("/box", "source") ? f.attr_string("/box", "source") : "";
+  return s;
+}
+
+}  // namespace tetmvs

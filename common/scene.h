@@ -1,0 +1,45 @@
+// The scene: cameras, images, silhouettes and bounding box, as `ingest` writes them
+// to scene.h5 (schema: schemas/scene.md).
+#pragma once
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "common/camera.h"
+
+namespace tetmvs {
+
+struct Scene {
+  std::vector<Camera> cams;       // width/height set
+  std::vector<cv::Mat> rgb;       // CV_8UC3, RGB channel order, one per camera
+  std::vector<cv::Mat> grey;      // CV_32F in [0, 1], filled by load_grey()
+  std::vector<cv::Mat> sil;       // CV_8U, 255 = object; empty Mat when the view has none
+  Eigen::AlignedBox3d box;        // bounding box of the object
+  std::string box_source;         // "bbox.txt", "README.txt", "visual hull", "given"
+  std::string dataset;            // dataset name (folder name)
+
+  int size() const { return static_cast<int>(cams.size()); }
+  bool has_silhouette(int v) const { return !sil[v].empty(); }
+  int num_silhouettes() const;
+  // Converts rgb to float grey (Rec. 601 luma) into `grey`.
+  void load_grey();
+  // True when pixel (u,v) (nearest) of view v is inside a valid silhouette.
+  // Views without silhouette and pixels outside the image return `outside_value`.
+  bool in_silhouette(int v, double u, double vv, bool outside_value) const;
+};
+
+// Reads scene.h5 (validated: schema, shapes, rotations, box). images = false skips the
+// colour images (cameras, box and silhouettes only).
+Scene read_scene(const std::filesystem::path& file, bool images = true);
+
+// Writes the scene's datasets into an open HDF5 file (the caller writes the header
+// and commits). All images must share one size.
+namespace h5 { class File; }
+void write_scene(h5::File& f, const Scene& s);
+
+inline constexpr const char* kSceneSchema = "tetmvs.scene";
+inline constexpr int kSceneVersion = 1;
+
+}  // namespace tetmvs
