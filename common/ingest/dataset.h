@@ -1,0 +1,56 @@
+// Reading a dataset folder (Middlebury layout) into a Scene.
+//
+// A folder holds exactly one <prefix>_par.txt; the images it names; optionally
+// silhouettes/ with same-named masks (255 = object); optionally
+// <prefix>_good_silhouette_images.txt (only those views get a silhouette); optionally a
+// Middlebury README.txt stating the bounding box, or bbox.txt (two lines: min, max).
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/params.h"
+#include "common/scene.h"
+
+namespace tetmvs {
+
+struct SilhouetteOptions {
+  double threshold = 0.19;  // max(R,G,B)/255 above this is object
+  int dilate = 10;          // pixels
+  int erode = 7;            // pixels
+  double min_area = 0.002;  // fraction of the image; smaller blobs are removed
+  bool fill_holes = true;   // background regions not touching the border become object
+  static SilhouetteOptions from(const Params& p);
+};
+
+// Silhouette of an RGB image with a dark background (the Middlebury recipe:
+// threshold, dilate, erode, then small-blob removal and hole filling).
+cv::Mat silhouette_from_dark_background(const cv::Mat& rgb, const SilhouetteOptions& o);
+
+// Bounding box stated by a bbox.txt (two lines of three numbers) or by a Middlebury
+// README.txt ("The (tight) bounding box for the ... model is (x y z) (x y z)").
+// Returns nothing when the folder states none; throws on a malformed file.
+std::optional<Eigen::AlignedBox3d> read_stated_box(const std::filesystem::path& dir,
+                                                   std::string* source);
+
+// Visual hull by voxel carving inside `region`: a voxel centre survives when it projects
+// inside the silhouette of every view that has one and sees it (pixels outside an
+// image never carve). Returns the bounding box of the surviving voxels (empty box when
+// none survive) and their count.
+Eigen::AlignedBox3d visual_hull_box(const Scene& s, const Eigen::AlignedBox3d& region, int res,
+                                    long* voxels = nullptr);
+
+// Least-squares meeting point of the optical axes and a cube around it covering what the
+// cameras see at that depth: the search region when nothing states a box.
+Eigen::AlignedBox3d camera_search_region(const std::vector<Camera>& cams);
+
+// Reads the whole folder into a Scene (images, silhouettes, box). Every failure is an
+// Error naming the file and the problem.
+Scene read_dataset(const std::filesystem::path& dir, const Params& p);
+
+// A contact sheet: thumbnails of every view with its silhouette outlined (green) or
+// marked "no silhouette", for a person to check the silhouettes at a glance.
+cv::Mat contact_sheet(const Scene& s, int thumb_width = 160);
+
+}  // namespace tetmvs

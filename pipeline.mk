@@ -1,0 +1,148 @@
+# The reconstruction pipeline as a Makefile: every stage a program, every intermediate a
+# file in $(RUN_DIR), each rerun only when its inputs or its parameters change.
+#
+#   make -f pipeline.mk                       # default synthetic scene, whole pipeline
+#   make -f pipeline.mk DATA=dinoRing         # a Middlebury set
+#   make -f pipeline.mk DATA=dinoRing T=0.5 LAMBDA=0.5 cut1
+#   make -f pipeline.mk help                  # targets, variables and parameters
+#
+# Parameters given on the command line (T=0.5, LAMBDA=4, ...: see `help`) are tracked:
+# changing one reruns exactly the stages that use it and those after them.
+
+SHELL := /bin/bash
+.SUFFIXES:
+.DELETE_ON_ERROR:
+MAKEFLAGS += --no-builtin-rules
+
+ROOT      := $(patsubst %/,%,$(dir $(abspath $(lastword $(MAKEFILE_LIST)))))
+BUILD_DIR ?= $(ROOT)/build
+BIN       := $(BUILD_DIR)/bin
+# The default scene is rendered by the project itself (no network needed).
+DATA      ?= synth-torus
+# Middlebury sets: a sibling shared/data/middlebury folder when there is one, else data/.
+DATA_DIR  ?= $(firstword $(wildcard $(ROOT)/../shared/data/middlebury) $(ROOT)/data)
+SYNTH_DIR ?= $(ROOT)/data
+RUN_DIR   ?= $(ROOT)/runs/$(DATA)
+# Maximum refinement levels; refine also stops early once cells project to at most
+# refine.max_pixels pixels (parameter MAX_PIXELS).
+LEVELS    ?= 4
+# Optional JSON file of parameter overrides; a dataset's examples/params/<DATA>.json by default.
+PARAMS    ?= $(wildcard $(ROOT)/examples/params/$(DATA).json)
+QUIET     ?=
+STAGE_FLAGS := $(if $(QUIET),--quiet) $(if $(PARAMS),--params $(PARAMS))
+
+ifneq ($(filter synth-%,$(DATA)),)
+  DATASET := $(SYNTH_DIR)/$(DATA)
+  GT      := $(DATASET)/gt.ply
+else
+  DATASET := $(DATA_DIR)/$(DATA)
+  GT      := $(wildcard $(DATASET)/gt.ply)
+endif
+
+PROGRAMS := $(notdir $(wildcard $(ROOT)/stages/*))
+has = $(filter $(1),$(PROGRAMS))
+
+# --- parameters: make variable -> key -> stages (generated from params/defaults.json) --
+-include $(BUILD_DIR)/params.mk
+# --set arguments of stage $(1) from the variables given on the command line
+set_args = $(strip $(foreach v,$(MAKE_PARAMS),$(if $(and $(filter $(1),$(PARAM_$(v)_STAGES)),$(filter command line,$(origin $(v)))),--set $(PARAM_$(v)_KEY)=$($(v)))))
+STAMPS := $(RUN_DIR)/.params
+# A stage's stamp holds its parameter arguments and is rewritten only when they change.
+$(STAMPS)/%.args: FORCE
+	@mkdir -p $(@D)
+	@echo '$(call set_args,$*) $(STAGE_FLAGS) $(if $(PARAMS),$(shell sha256sum $(PARAMS) | cut -c1-16))' > $@.new
+	@if cmp -s $@.new $@; then rm -f $@.new; else mv -f $@.new $@; fi
+FORCE:
+.PRECIOUS: $(STAMPS)/%.args
+args = $(call set_args,$(1)) $(STAGE_FLAGS)
+
+# --- programs ---------------------------------------------------------------------------
+.PHONY: programs
+programs:
+	@bash $(ROOT)/scripts/build.sh
+$(BIN)/%: | programs ;
+
+# --- data ---------------------------------------------------------------------------------
+MIDDLEBURY := dinoRing templeRing dinoSparseRing templeSparseRing
+$(DATA_DIR)/%/.present:
+	@bash $(ROOT)/scripts/fetch_middlebury.sh $* $(DATA_DIR)
+$(SYNTH_DIR)/synth-%/gt.ply: | programs
+	$(BIN)/synth --object $* --out $(SYNTH_DIR)/synth-$* $(SYNTH_FLAGS) $(STAGE_FLAGS)
+
+ifneq ($(filter synth-%,$(DATA)),)
+DATASET_READY := $(GT)
+else ifneq ($(filter $(DATA),$(MIDDLEBURY)),)
+DATASET_READY := $(if $(wildcard $(DATASET)/*_par.txt),,$(DATA_DIR)/$(DATA)/.present)
+else
+DATASET_READY :=
+endif
+
+# --- stages ------------------------------------------------------------------------------
+.PHONY: all ingest mesh levels points cut1 cut2 final evaluate report help clean
+all: $(if $(call has,deform),final,$(if $(call has,silhouette-fix),cut2,$(if $(call has,cut),cut1,$(if $(call has,photoconsist),points,$(if $(call has,refine),levels,$(if $(call has,bcc-init),mesh,ingest)))))) $(if $(and $(call has,evaluate),$(GT),$(call has,cut)),evaluate)
+
+ingest: $(RUN_DIR)/scene.h5
+$(RUN_DIR)/scene.h5: $(DATASET_READY) $(STAMPS)/ingest.args | programs
+	@mkdir -p $(@D)
+	$(BIN)/ingest $(DATASET) -o $@ --contact-sheet $(RUN_DIR)/ingest_contact.png $(call args,ingest)
+
+mesh: $(RUN_DIR)/mesh_0.h5
+$(RUN_DIR)/mesh_0.h5: $(RUN_DIR)/scene.h5 $(STAMPS)/bcc-init.args | programs
+	$(BIN)/bcc-init --scene $< --out $@ --slice-png $(RUN_DIR)/mesh_0_slice.png $(call args,bcc-init)
+
+# Level i: photoconsist finds the crossing faces of mesh_i (pc_i.h5, with the face cache
+# handed down from pc_{i-1}); refine red-green refines the active cells -> mesh_{i+1}.
+NUMS := 0 1 2 3 4 5 6 7 8 9 10 11 12
+LEVEL_IDS := $(wordlist 1,$(LEVELS),$(NUMS))
+prev = $(word $(1),$(NUMS))
+define LEVEL_RULES
+$(RUN_DIR)/pc_$(1).h5: $(RUN_DIR)/scene.h5 $(RUN_DIR)/mesh_$(1).h5 $(if $(filter 0,$(1)),,$(RUN_DIR)/pc_$(call prev,$(1)).h5) $(STAMPS)/photoconsist.args | programs
+	$(BIN)/photoconsist --scene $(RUN_DIR)/scene.h5 --mesh $(RUN_DIR)/mesh_$(1).h5 --level $(1) $(if $(filter 0,$(1)),,--cache $(RUN_DIR)/pc_$(call prev,$(1)).h5) --out $$@ $$(call args,photoconsist)
+$(RUN_DIR)/mesh_$(word $(shell echo $$(($(1)+2))),$(NUMS)).h5: $(RUN_DIR)/mesh_$(1).h5 $(RUN_DIR)/pc_$(1).h5 $(STAMPS)/refine.args | programs
+	$(BIN)/refine --mesh $(RUN_DIR)/mesh_$(1).h5 --active $(RUN_DIR)/pc_$(1).h5 --out $$@ --slice-png $$(basename $$@)_slice.png $$(call args,refine)
+endef
+$(foreach i,$(LEVEL_IDS),$(eval $(call LEVEL_RULES,$(i))))
+FINAL_MESH := $(RUN_DIR)/mesh_$(LEVELS).h5
+LAST_PC    := $(RUN_DIR)/pc_$(word $(LEVELS),$(NUMS)).h5
+levels: $(FINAL_MESH)
+
+# Face scores of the final mesh (for the cut) and the quasi-dense points Q.
+points: $(RUN_DIR)/scores.h5
+$(RUN_DIR)/scores.h5: $(RUN_DIR)/scene.h5 $(FINAL_MESH) $(LAST_PC) $(STAMPS)/photoconsist.args | programs
+	$(BIN)/photoconsist --scene $(RUN_DIR)/scene.h5 --mesh $(FINAL_MESH) --scores --cache $(LAST_PC) --out $@ --points-ply $(RUN_DIR)/points.ply $(call args,photoconsist)
+
+$(RUN_DIR)/labels.h5: $(RUN_DIR)/scene.h5 $(FINAL_MESH) $(RUN_DIR)/scores.h5 $(STAMPS)/label.args | programs
+	$(BIN)/label --scene $(RUN_DIR)/scene.h5 --mesh $(FINAL_MESH) --scores $(RUN_DIR)/scores.h5 --out $@ --slice-png $(RUN_DIR)/labels_slice.png $(call args,label)
+
+cut1: $(RUN_DIR)/cut1.ply
+$(RUN_DIR)/cut1.ply: $(FINAL_MESH) $(RUN_DIR)/scores.h5 $(RUN_DIR)/labels.h5 $(STAMPS)/cut.args | programs
+	$(BIN)/cut --mesh $(FINAL_MESH) --scores $(RUN_DIR)/scores.h5 --labels $(RUN_DIR)/labels.h5 --out $(RUN_DIR)/cut1.h5 --ply $@ $(call args,cut)
+
+$(RUN_DIR)/silfix.h5: $(RUN_DIR)/scene.h5 $(FINAL_MESH) $(RUN_DIR)/scores.h5 $(RUN_DIR)/labels.h5 $(RUN_DIR)/cut1.ply $(STAMPS)/silhouette-fix.args | programs
+	$(BIN)/silhouette-fix --scene $(RUN_DIR)/scene.h5 --mesh $(FINAL_MESH) --scores $(RUN_DIR)/scores.h5 --labels $(RUN_DIR)/labels.h5 --cut $(RUN_DIR)/cut1.h5 --out $@ --png-dir $(RUN_DIR)/silfix $(call args,silhouette-fix)
+
+cut2: $(RUN_DIR)/cut2.ply
+$(RUN_DIR)/cut2.ply: $(FINAL_MESH) $(RUN_DIR)/scores.h5 $(RUN_DIR)/silfix.h5 $(STAMPS)/cut.args | programs
+	$(BIN)/cut --mesh $(FINAL_MESH) --scores $(RUN_DIR)/scores.h5 --labels $(RUN_DIR)/silfix.h5 --out $(RUN_DIR)/cut2.h5 --ply $@ $(call args,cut)
+
+final: $(RUN_DIR)/final.ply
+$(RUN_DIR)/final.ply: $(RUN_DIR)/scene.h5 $(RUN_DIR)/cut2.ply $(STAMPS)/deform.args | programs
+	$(BIN)/deform --scene $(RUN_DIR)/scene.h5 --mesh $(RUN_DIR)/cut2.ply --out $@ --stats $(RUN_DIR)/deform.h5 $(call args,deform)
+
+# --- evaluation against ground truth (synthetic scenes) ------------------------------------
+SURFACES := $(foreach s,cut1 cut2 final,$(if $(filter $(s),$(MAKECMDGOALS) all $(if $(call has,deform),final cut2 cut1,$(if $(call has,silhouette-fix),cut2 cut1,cut1))),$(s)))
+evaluate: $(foreach s,$(SURFACES),$(RUN_DIR)/eval_$(s).json)
+$(RUN_DIR)/eval_%.json: $(RUN_DIR)/%.ply $(RUN_DIR)/scene.h5 $(GT) $(STAMPS)/evaluate.args | programs
+	$(BIN)/evaluate --mesh $< --gt $(GT) --cameras $(RUN_DIR)/scene.h5 --out $@ --png $(RUN_DIR)/eval_$*.png $(call args,evaluate)
+
+clean:
+	rm -rf $(RUN_DIR)
+
+help:
+	@echo "Targets:   all (default: every stage that exists), ingest, mesh, levels, points,"
+	@echo "           cut1, cut2, final, evaluate, clean, help"
+	@echo "Variables: DATA=$(DATA)  DATA_DIR=$(DATA_DIR)  RUN_DIR=$(RUN_DIR)"
+	@echo "           LEVELS=$(LEVELS)  PARAMS=$(PARAMS)  QUIET=$(QUIET)  BUILD_DIR=$(BUILD_DIR)"
+	@echo "           DATA: synth-<object> renders a synthetic scene; $(MIDDLEBURY) use DATA_DIR or download"
+	@echo "Parameters (VAR=value on the command line; default, paper value, stages):"
+	@$(foreach v,$(MAKE_PARAMS),printf '  %-18s %-12s %-28s %s\n' '$(v)' '$(PARAM_$(v)_DEFAULT)' '$(PARAM_$(v)_PAPER)' '$(PARAM_$(v)_STAGES)';)
