@@ -1,0 +1,155 @@
+#include "common/trimesh/raster.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "common/error.h"
+
+namespace tetmvs {
+
+namespace {
+constexpr std::int64_t kSub = 256;  // fixed-point steps per sample
+
+inline std::int64_t edge(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by, std::int64_t px,
+                         std::int64_t py) {
+  return (bx - ax) * (py - ay) - (by - ay) * (px - ax);
+}
+inline std::int64_t floor_div(std::int64_t a, std::int64_t b) {
+  const std::int64_t q = a / b;
+  return (a % b != 0 && (a < 0) != (b < 0)) ? q - 1 : q;
+}
+// Top-left ownership of edge a->b for a triangle with positive edge() area (y down).
+inline bool owns(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by) {
+  const std::int64_t dx = bx - ax, dy = by - ay;
+  return dy < 0 || (dy == 0 && dx > 0);
+}
+}  // namespace
+
+Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) {
+  require(cam.width > 0 && cam.height > 0, "rasterize: camera '", cam.name, "' has no image size");
+  require(opt.supersample >= 1 && opt.supersample <= 16, "rasterize: supersample must be 1..16, got ", opt.supersample);
+  Raster r;
+  r.width = cam.width;
+  r.height = cam.height;
+  r.ss = opt.supersample;
+  const int W = cam.width * r.ss, H = cam.height * r.ss;
+  r.depth = cv::Mat(H, W, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
+  r.tri = cv::Mat(H, W, CV_32S, cv::Scalar(-1));
+  const std::size_t nv = m.V.size();
+  std::vector<double> z(nv);
+  std::vector<std::int64_t> fx(nv), fy(nv);
+  std::vector<double> pu(nv), pv(nv);  // unsnapped sample-grid coordinates (for depth)
+  const Eigen::Matrix3d KR = cam.K * cam.R;
+  const Eigen::Vector3d Kt = cam.K * cam.t;
+  const double s = r.ss;
+  // Keep snapped coordinates within a range where products fit in 64 bits.
+  const double lim = 1e7;
+  for (std::size_t i = 0; i < nv; ++i) {
+    const Eigen::Vector3d x = KR * m.V[i] + Kt;
+    z[i] = x.z();
+    if (!(x.z() > opt.znear)) continue;
+    double u = (x.x() / x.z() + 0.5) * s - 0.5, v = (x.y() / x.z() + 0.5) * s - 0.5;
+    u = std::clamp(u, -lim, lim);
+    v = std::clamp(v, -lim, lim);
+    pu[i] = u;
+    pv[i] = v;
+    fx[i] = std::llround(u * kSub);
+    fy[i] = std::llround(v * kSub);
+  }
+  float* D = r.depth.ptr<float>();
+  int* T = r.tri.ptr<int>();
+  for (std::size_t f = 0; f < m.F.size(); ++f) {
+    int i0 = m.F[f][0], i1 = m.F[f][1], i2 = m.F[f][2];
+    if (!(z[i0] > opt.znear && z[i1] > opt.znear && z[i2] > opt.znear)) {
+      ++r.skipped_near;
+      continue;
+    }
+    std::int64_t area = edge(fx[i0], fy[i0], fx[i1], fy[i1], fx[i2], fy[i2]);
+    if (area == 0) continue;
+    // With y down, a triangle counter-clockwise seen from its front has negative area here.
+    if (opt.cull_back && area > 0) continue;
+    if (area < 0) {
+      std::swap(i1, i2);
+      area = -area;
+    }
+    const std::int64_t x0 = fx[i0], y0 = fy[i0], x1 = fx[i1], y1 = fy[i1], x2 = fx[i2], y2 = fy[i2];
+    const std::int64_t minx = std::min({x0, x1, x2}), maxx = std::max({x0, x1, x2});
+    const std::int64_t miny = std::min({y0, y1, y2}), maxy = std::max({y0, y1, y2});
+    // Sample i sits at i * kSub.
+    const std::int64_t ia = std::max<std::int64_t>(0, -floor_div(-minx, kSub));
+    const std::int64_t ib = std::min<std::int64_t>(W - 1, floor_div(maxx, kSub));
+    const std::int64_t ja = std::max<std::int64_t>(0, -floor_div(-miny, kSub));
+    const std::int64_t jb = std::min<std::int64_t>(H - 1, floor_div(maxy, kSub));
+    if (ia > ib || ja > jb) continue;
+    const std::int64_t b0 = owns(x1, y1, x2, y2) ? 0 : 1;  // edge opposite vertex 0
+    const std::int64_t b1 = owns(x2, y2, x0, y0) ? 0 : 1;
+    const std::int64_t b2 = owns(x0, y0, x1, y1) ? 0 : 1;
+    // 1/z is affine in image coordinates: 1/z = A u + B v + C0, from the unsnapped vertices.
+    const double iz0 = 1.0 / z[i0], iz1 = 1.0 / z[i1], iz2 = 1.0 / z[i2];
+    const double e1u = pu[i1] - pu[i0], e1v = pv[i1] - pv[i0], e2u = pu[i2] - pu[i0], e2v = pv[i2] - pv[i0];
+    const double det = e1u * e2v - e1v * e2u;
+    double A = 0, B = 0;
+    if (det != 0) {
+      A = ((iz1 - iz0) * e2v - (iz2 - iz0) * e1v) / det;
+      B = ((iz2 - iz0) * e1u - (iz1 - iz0) * e2u) / det;
+    }
+    const double C0 = iz0 - A * pu[i0] - B * pv[i0];
+    for (std::int64_t j = ja; j <= jb; ++j) {
+      const std::int64_t py = j * kSub;
+      for (std::int64_t i = ia; i <= ib; ++i) {
+        const std::int64_t px = i * kSub;
+        const std::int64_t w0 = edge(x1, y1, x2, y2, px, py);
+        const std::int64_t w1 = edge(x2, y2, x0, y0, px, py);
+        const std::int64_t w2 = edge(x0, y0, x1, y1, px, py);
+        if (w0 - b0 < 0 || w1 - b1 < 0 || w2 - b2 < 0) continue;
+        const double iz = A * static_cast<double>(i) + B * static_cast<double>(j) + C0;
+        const float d = static_cast<float>(1.0 / iz);
+        const std::size_t k = static_cast<std::size_t>(j) * W + i;
+        if (d < D[k] || (d == D[k] && static_cast<int>(f) < T[k])) {
+          D[k] = d;
+          T[k] = static_cast<int>(f);
+        }
+      }
+    }
+  }
+  return r;
+}
+
+cv::Mat Raster::coverage() const {
+  cv::Mat c(height, width, CV_32F, cv::Scalar(0));
+  const float w = 1.0f / (ss * ss);
+  for (int j = 0; j < height * ss; ++j) {
+    const int* t = tri.ptr<int>(j);
+    float* out = c.ptr<float>(j / ss);
+    for (int i = 0; i < width * ss; ++i)
+      if (t[i] >= 0) out[i / ss] += w;
+  }
+  return c;
+}
+
+cv::Mat Raster::centre_mask() const {
+  require(ss % 2 == 1, "Raster::centre_mask needs an odd supersampling factor (got ", ss, ")");
+  cv::Mat mask(height, width, CV_8U, cv::Scalar(0));
+  const int o = ss / 2;  // the middle sample of each pixel is its centre
+  for (int v = 0; v < height; ++v) {
+    const int* t = tri.ptr<int>(v * ss + o);
+    std::uint8_t* out = mask.ptr<std::uint8_t>(v);
+    for (int u = 0; u < width; ++u) out[u] = t[u * ss + o] >= 0 ? 255 : 0;
+  }
+  return mask;
+}
+
+bool pixel_point_on_triangle(const TriMesh& m, int f, const Camera& cam, double u, double v, Eigen::Vector3d& X) {
+  const Eigen::Vector3d C = cam.centre();
+  const Eigen::Vector3d d = cam.R.transpose() * (cam.K.inverse() * Eigen::Vector3d(u, v, 1.0));
+  const Eigen::Vector3d& a = m.V[m.F[f][0]];
+  const Eigen::Vector3d n = (m.V[m.F[f][1]] - a).cross(m.V[m.F[f][2]] - a);
+  const double den = n.dot(d);
+  if (den == 0 || !std::isfinite(den)) return false;
+  X = C + d * (n.dot(a - C) / den);
+  return true;
+}
+
+}  // namespace tetmvs

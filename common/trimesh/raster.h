@@ -1,0 +1,50 @@
+// Z-buffer rasteriser of a triangle mesh seen by a Camera: depth map (camera z),
+// triangle-id map and coverage.
+//
+// Sampling is exact at sample points: with supersampling s, the sample (i, j) of the
+// (s*W) x (s*H) grid sits at continuous pixel coordinate ((i + 0.5)/s - 0.5, (j + 0.5)/s - 0.5),
+// so with s = 1 the samples are the pixel centres (u, v). A sample is covered by a
+// triangle when it is strictly inside, or on an edge that is a top or left edge (D3D
+// top-left rule), so triangles sharing an edge cover each sample on it exactly once.
+// Vertex positions are snapped to 1/256 of a sample for exact integer edge tests.
+// Nearest depth wins (ties: lower triangle id). Depth is perspective-correct.
+// Triangles with a vertex at camera depth <= znear are skipped and counted.
+#pragma once
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "common/camera.h"
+#include "common/trimesh/trimesh.h"
+
+namespace tetmvs {
+
+struct RasterOptions {
+  int supersample = 1;      // s >= 1
+  double znear = 1e-9;      // triangles with a vertex at depth <= znear are skipped
+  bool cull_back = false;   // skip triangles whose front (counter-clockwise seen from outside) faces away
+};
+
+struct Raster {
+  int width = 0, height = 0, ss = 1;  // image size in pixels; the buffers are (ss*H) x (ss*W)
+  cv::Mat depth;  // CV_32F, camera z of the nearest surface, +inf where empty
+  cv::Mat tri;    // CV_32S, triangle id, -1 where empty
+  std::int64_t skipped_near = 0;  // triangles dropped by znear
+
+  // Continuous pixel coordinate of buffer sample (i, j).
+  double sample_u(int i) const { return (i + 0.5) / ss - 0.5; }
+  double sample_v(int j) const { return (j + 0.5) / ss - 0.5; }
+  // Coverage fraction per pixel (CV_32F in [0,1]).
+  cv::Mat coverage() const;
+  // CV_8U mask, 255 where the pixel centre is covered (needs an odd ss).
+  cv::Mat centre_mask() const;
+};
+
+// Camera width/height must be set (> 0).
+Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt = {});
+
+// World point on triangle f under continuous pixel (u, v) (ray-plane intersection).
+// Returns false when the ray is parallel to the triangle plane.
+bool pixel_point_on_triangle(const TriMesh& m, int f, const Camera& cam, double u, double v,
+                             Eigen::Vector3d& X);
+
+}  // namespace tetmvs
