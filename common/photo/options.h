@@ -1,0 +1,37 @@
+// Options of the photo-consistency measure (paper sections 2.3 and 3.1), validated
+// up front by check(). Defaults and meanings: params/defaults.json ("photo.*") and
+// docs/photo.md.
+#pragma once
+#include <algorithm>
+
+namespace tetmvs {
+class Params;
+
+namespace photo {
+
+// Upper bounds that size the fixed arrays of the results (no allocation per call).
+inline constexpr int kMaxK = 16;
+inline constexpr int kMaxKPrime = kMaxK / 2;
+inline constexpr int kMaxMu = 31;
+
+struct Options {
+  int mu = 11;             // patch size in samples: 1 x mu line (points), mu x mu grid (faces)
+  int k = 5;               // cameras used per patch (the best k within the cone)
+  double cone_deg = 60.0;  // max angle between the patch normal and the direction to a camera
+  double T = 0.6;          // a point is photo-consistent when its score > T
+  double min_std = 1e-3;   // patches whose grey std is below this are "constant": NCC = 0
+  bool use_silhouettes = false;  // drop a view when the patch centre is outside its silhouette
+
+  // k' = max(k/2, 3): each camera's score is the mean of its best k' NCCs.
+  int k_prime() const { return std::max(k / 2, 3); }
+  // Fewest usable cameras for a defined score: the reference plus k' partners.
+  int min_cams() const { return k_prime() + 1; }
+  // Throws tetmvs::Error naming the bad value.
+  void check() const;
+  // Reads photo.mu, photo.k, photo.cone_deg, photo.T, photo.min_std, photo.use_silhouettes,
+  // then check()s.
+  static Options from_params(const Params& p);
+};
+
+}  // namespace photo
+}  // namespace tetmvs

@@ -1,0 +1,411 @@
+// Tests of the photo-consistency measure (common/photo/) on synthetic images rendered
+// here: a textured plane seen by 8 pinhole cameras in a cone around its normal.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <set>
+
+#include "common/error.h"
+#include "common/photo/camera_select.h"
+#include "common/photo/face_score.h"
+#include "common/photo/lattice.h"
+#include "common/photo/oriented_point.h"
+#include "common/photo/patch.h"
+#include "test_photo_scene.h"
+
+using namespace tetmvs;
+using namespace tetmvs::photo;
+using tetmvs::testing::PlaneScene;
+
+namespace {
+const std::vector<double> kPolar = {20, 32, 24, 35, 20, 30, 26, 34};
+
+Eigen::Vector3d rotate(const Eigen::Vector3d& v, const Eigen::Vector3d& axis, double deg) {
+  return Eigen::AngleAxisd(deg * std::numbers::pi / 180, axis.normalized()) * v;
+}
+
+// One scene per normal, rendered once for the whole test binary.
+const PlaneScene& scene(int which) {
+  static const PlaneScene s0(Eigen::Vector3d(0, 0, 1), kPolar);
+  static const PlaneScene s1(rotate(Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(1, -1, 0), 9), kPolar);
+  static const PlaneScene s2(rotate(Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 1), 14), kPolar);
+  return which == 0 ? s0 : which == 1 ? s1 : s2;
+}
+const Views& views(int which) {
+  static const Views v0(scene(0).cams, scene(0).grey), v1(scene(1).cams, scene(1).grey),
+      v2(scene(2).cams, scene(2).grey);
+  return which == 0 ? v0 : which == 1 ? v1 : v2;
+}
+
+// Points on the plane of scene s near its centre (offsets of a few texture cells).
+std::vector<Eigen::Vector3d> surface_points(const PlaneScene& s) {
+  const Eigen::Vector3d e1 = stable_perpendicular(s.N), e2 = s.N.cross(e1);
+  std::vector<Eigen::Vector3d> p;
+  for (double a : {-0.17, 0.0, 0.11})
+    for (double b : {-0.13, 0.07}) p.push_back(s.O + a * e1 + b * e2);
+  return p;
+}
+// Normals of mesh faces crossing the surface at those points. The 1 x mu line lies
+// along n_X x n_f: for a face whose normal is in the plane of N and the nearest
+// orientation n_c (eps = 0), the lines of every orientation in that plane lie on the
+// surface and the orientation is not observable. Turning the face by eps about N
+// tilts each orientation's line off the surface by about eps * sin(angle(n_X, N)):
+// the nearest orientation's line stays on the surface, the others' leave it.
+std::vector<Eigen::Vector3d> crossing_face_normals(const Eigen::Vector3d& N) {
+  const Eigen::Vector3d nc = orientations()[nearest_orientation(N)];
+  Eigen::Vector3d q = N.cross(nc);
+  if (q.norm() < 1e-9) q = stable_perpendicular(N);
+  const Eigen::Vector3d p = q.normalized(), u = p.cross(N);
+  std::vector<Eigen::Vector3d> out;
+  for (double eps : {30.0, -30.0, 50.0, 150.0}) {
+    const double e = eps * std::numbers::pi / 180;
+    out.push_back(std::cos(e) * u + std::sin(e) * p);
+  }
+  return out;
+}
+std::vector<Eigen::Vector3d> face_normals() {
+  return {Eigen::Vector3d(0.8, 0.3, 0.52).normalized(), Eigen::Vector3d(-0.2, 0.9, 0.4).normalized(),
+          Eigen::Vector3d(0.45, -0.55, -0.7).normalized()};
+}
+}  // namespace
+
+TEST(PhotoViews, RejectsBadInputs) {
+  const PlaneScene& s = scene(0);
+  std::vector<cv::Mat> g = s.grey;
+  g.pop_back();
+  EXPECT_THROW(Views(s.cams, g), Error);
+  g = s.grey;
+  g[2] = cv::Mat(10, 10, CV_32F, cv::Scalar(0));
+  EXPECT_THROW(Views(s.cams, g), Error);
+  g = s.grey;
+  cv::Mat u8;
+  g[1].convertTo(u8, CV_8U, 255);
+  g[1] = u8;
+  EXPECT_THROW(Views(s.cams, g), Error);
+  const Views v(s.cams, s.grey);
+  EXPECT_EQ(v.size(), 8);
+  // The stored projection gives the camera's pixel, and z = depth.
+  const Eigen::Vector3d X(0.1, -0.2, 0.05);
+  for (int i = 0; i < v.size(); ++i) {
+    const Eigen::Vector3d h = v[i].project_h(X);
+    EXPECT_NEAR((h.head<2>() / h.z() - s.cams[i].project(X)).norm(), 0.0, 1e-9);
+    EXPECT_NEAR(h.z(), s.cams[i].depth(X), 1e-12);
+  }
+}
+
+TEST(CameraSelect, ConeOrderAndTies) {
+  const PlaneScene& s = scene(0);
+  const Views& v = views(0);
+  Options o;
+  // Straight up: every camera is within 35 deg of +z; sorted by angle, ties by index.
+  auto c = select_cameras(v, s.O, Eigen::Vector3d(0, 0, 1), o);
+  ASSERT_EQ(c.size(), 8u);
+  for (size_t i = 1; i < c.size(); ++i) EXPECT_TRUE(better_candidate(c[i - 1], c[i]));
+  // Cameras 0 and 4 are both at polar 20 deg (exact tie by symmetry up to rounding).
+  EXPECT_TRUE((c[0].view == 0 && c[1].view == 4) || (c[0].view == 4 && c[1].view == 0));
+  for (const auto& x : c) {
+    const Eigen::Vector3d d = (s.cams[x.view].centre() - s.O).normalized();
+    EXPECT_NEAR(x.cos, d.z(), 1e-12);
+  }
+  // A narrow cone keeps only the cameras at polar <= 25 deg.
+  o.cone_deg = 25;
+  c = select_cameras(v, s.O, Eigen::Vector3d(0, 0, 1), o);
+  std::set<int> got;
+  for (const auto& x : c) got.insert(x.view);
+  EXPECT_EQ(got, (std::set<int>{0, 2, 4}));
+  // Downward normal: nothing within 60 deg.
+  EXPECT_TRUE(select_cameras(v, s.O, Eigen::Vector3d(0, 0, -1), Options{}).empty());
+  // Exact ties resolve by index: two identical cameras.
+  std::vector<Camera> cams = {s.cams[1], s.cams[1], s.cams[3]};  // polar 32, 32, 35 deg
+  std::vector<cv::Mat> grey = {s.grey[1], s.grey[1], s.grey[3]};
+  const Views tie(cams, grey);
+  c = select_cameras(tie, s.O, Eigen::Vector3d(0, 0, 1), Options{});
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_EQ(c[0].cos, c[1].cos);
+  EXPECT_EQ(c[0].view, 0);
+  EXPECT_EQ(c[1].view, 1);
+  EXPECT_EQ(c[2].view, 2);
+}
+
+TEST(CameraSelect, PointOutsideImageOrSilhouetteDropsTheView) {
+  const PlaneScene& s = scene(0);
+  // A point far to the side projects outside some images.
+  const Eigen::Vector3d X(1.3, 0.0, 0.0);
+  const auto c = select_cameras(views(0), X, Eigen::Vector3d(0, 0, 1), Options{});
+  int inside = 0;
+  for (const auto& cam : s.cams) inside += cam.sees(X);
+  EXPECT_LT(inside, 8);
+  EXPECT_EQ(static_cast<int>(c.size()), inside);
+  // Silhouettes: view 2's silhouette excludes everything -> dropped when asked.
+  std::vector<cv::Mat> sil(8);
+  sil[2] = cv::Mat(s.grey[2].size(), CV_8U, cv::Scalar(0));
+  sil[5] = cv::Mat(s.grey[5].size(), CV_8U, cv::Scalar(255));
+  const Views vs(s.cams, s.grey, sil);
+  EXPECT_TRUE(vs.has_silhouettes());
+  Options o;
+  EXPECT_EQ(select_cameras(vs, s.O, Eigen::Vector3d(0, 0, 1), o).size(), 8u);
+  o.use_silhouettes = true;
+  const auto cs = select_cameras(vs, s.O, Eigen::Vector3d(0, 0, 1), o);
+  EXPECT_EQ(cs.size(), 7u);
+  for (const auto& x : cs) EXPECT_NE(x.view, 2);
+}
+
+TEST(PointScore, OnSurfaceHighWithNearestOrientation) {
+  Options o;
+  Scratch scratch;
+  for (int w = 0; w < 3; ++w) {
+    const PlaneScene& s = scene(w);
+    const int expect = nearest_orientation(s.N);
+    for (const auto& X : surface_points(s))
+      for (const auto& nf : crossing_face_normals(s.N)) {
+        std::array<float, kNumOrientations> per;
+        const PointResult r = score_point(views(w), X, nf, o, scratch, &per);
+        ASSERT_TRUE(r.valid());
+        EXPECT_GT(r.score, 0.9f) << "scene " << w << " X " << X.transpose();
+        EXPECT_TRUE(r.consistent(o));
+        EXPECT_EQ(r.orientation, expect) << "scene " << w << " X " << X.transpose() << " nf "
+                                         << nf.transpose() << " score " << r.score << " vs "
+                                         << per[expect];
+        EXPECT_EQ(r.score, per[r.orientation]);
+        EXPECT_EQ(r.num_partners, o.k_prime());
+        EXPECT_EQ(r.num_views, o.k);
+        // The reference and its partners are distinct views within the cone.
+        std::set<int> cams = {r.ref};
+        for (int i = 0; i < r.num_partners; ++i) cams.insert(r.partners[i]);
+        EXPECT_EQ(static_cast<int>(cams.size()), 1 + o.k_prime());
+        for (int c : cams) {
+          const Eigen::Vector3d d = (s.cams[c].centre() - X).normalized();
+          EXPECT_GE(d.dot(r.normal()), std::cos(60 * std::numbers::pi / 180) - 1e-12);
+        }
+        // Samples one pixel apart in the finest view.
+        EXPECT_NEAR(r.spacing, s.footprint, 0.1 * s.footprint);
+        // Orientations facing away from every camera have no score.
+        for (int i = 0; i < kNumOrientations; ++i)
+          if (orientations()[i].dot(s.N) < -0.2) EXPECT_EQ(per[i], kNoScore);
+      }
+  }
+}
+
+TEST(PointScore, OffSurfaceLow) {
+  // The 1 x 11 line sees only a few independent texture values, and the score is a
+  // maximum over 14 orientations and k references: away from the surface it is a
+  // chance value (mean ~0.5 here, docs/photo.md), not ~0. So this test checks the
+  // distribution over 100 points, and the 2-D patch (121 samples) point by point.
+  Options o;
+  Scratch scratch;
+  for (int w = 0; w < 3; ++w) {
+    const PlaneScene& s = scene(w);
+    const Eigen::Vector3d e1 = stable_perpendicular(s.N), e2 = s.N.cross(e1);
+    double on_sum = 0, off_sum = 0;
+    int on_n = 0, off_n = 0, off_above_08 = 0, on_above_09 = 0;
+    for (int i = 0; i < 100; ++i) {
+      const double a = -0.4 + 0.8 * ((i * 37) % 100) / 100.0, b = -0.3 + 0.6 * ((i * 61) % 100) / 100.0;
+      const Eigen::Vector3d nf(std::sin(i * 1.3), std::cos(i * 2.1), std::sin(i * 0.7 + 1));
+      const Eigen::Vector3d X0 = s.O + a * e1 + b * e2;
+      const PointResult on = score_point(views(w), X0, nf, o, scratch);
+      ASSERT_TRUE(on.valid());
+      on_sum += on.score, ++on_n, on_above_09 += on.score > 0.9f;
+      const double px = (i % 2 ? 1 : -1) * (i % 4 < 2 ? 10.0 : 20.0);
+      const PointResult off = score_point(views(w), X0 + px * s.footprint * s.N, nf, o, scratch);
+      ASSERT_TRUE(off.valid());
+      off_sum += off.score, ++off_n, off_above_08 += off.score > 0.8f;
+    }
+    EXPECT_GE(on_above_09, 97) << "scene " << w;
+    EXPECT_GT(on_sum / on_n, 0.95) << "scene " << w;
+    EXPECT_LT(off_sum / off_n, 0.6) << "scene " << w;
+    EXPECT_LE(off_above_08, 10) << "scene " << w;
+    // The 2-D patch separates point by point.
+    for (double px : {-8.0, 8.0, 15.0})
+      for (const auto& X0 : surface_points(s)) {
+        const PatchResult r = score_patch(views(w), X0 + px * s.footprint * s.N, s.N, o, scratch);
+        ASSERT_TRUE(r.valid());
+        EXPECT_LT(r.score, 0.4f) << "scene " << w << " offset " << px << " px, X " << X0.transpose();
+        EXPECT_GT(score_patch(views(w), X0, s.N, o, scratch).score, 0.95f);
+      }
+  }
+}
+
+TEST(PointScore, TooFewCamerasMeansNoScore) {
+  const PlaneScene& s = scene(0);
+  std::vector<Camera> cams(s.cams.begin(), s.cams.begin() + 3);
+  std::vector<cv::Mat> grey(s.grey.begin(), s.grey.begin() + 3);
+  const Views v(cams, grey);
+  Scratch scratch;
+  const PointResult r = score_point(v, s.O, face_normals()[0], Options{}, scratch);
+  EXPECT_FALSE(r.valid());
+  EXPECT_EQ(r.score, kNoScore);
+  EXPECT_EQ(r.orientation, -1);
+  EXPECT_FALSE(r.consistent(Options{}));
+  // Four cameras are enough for k' = 3.
+  cams.push_back(s.cams[3]);
+  grey.push_back(s.grey[3]);
+  const Views v4(cams, grey);
+  const PointResult r4 = score_point(v4, s.O, face_normals()[0], Options{}, scratch);
+  ASSERT_TRUE(r4.valid());
+  EXPECT_EQ(r4.num_views, 4);
+  EXPECT_GT(r4.score, 0.9f);
+}
+
+TEST(PointScore, PatchLeavingTheImageDropsTheView) {
+  // A point near the border of some images: its centre is inside them but the
+  // 11-sample line is not; those views are skipped and the next candidates used.
+  const PlaneScene& s = scene(0);
+  Options o;
+  o.k = 4;
+  Scratch scratch;
+  int tested = 0;
+  for (double x = 0.5; x < 1.6 && !tested; x += 0.01) {
+    const Eigen::Vector3d X(x, 0.0, 0.0);
+    // Views whose centre test passes but whose border margin is < 5 px.
+    int edge = 0;
+    for (const auto& c : s.cams)
+      if (c.sees(X, 0.0) && !c.sees(X, 6.0)) ++edge;
+    if (edge == 0) continue;
+    const PatchResult r = score_line(views(0), X, Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 1, 0), o, scratch);
+    if (!r.valid()) continue;
+    ++tested;
+    for (int i = 0; i < r.num_views; ++i) {
+      EXPECT_TRUE(s.cams[r.views[i]].sees(X, 4.0)) << "view " << r.views[i] << " x " << x;
+    }
+    EXPECT_GT(r.score, 0.9f);
+  }
+  EXPECT_EQ(tested, 1);
+}
+
+TEST(PointScore, DeterministicAndBatchMatches) {
+  const PlaneScene& s = scene(1);
+  std::vector<double> X, nf;
+  for (const auto& p : surface_points(s))
+    for (const auto& n : face_normals())
+      for (double off : {0.0, 0.03}) {
+        const Eigen::Vector3d q = p + off * s.N;
+        X.insert(X.end(), {q.x(), q.y(), q.z()});
+        nf.insert(nf.end(), {n.x(), n.y(), n.z()});
+      }
+  const long n = static_cast<long>(X.size() / 3);
+  std::vector<PointResult> batch(n);
+  score_points(views(1), X.data(), nf.data(), n, Options{}, batch.data());
+  Scratch scratch;
+  for (long i = 0; i < n; ++i) {
+    const PointResult r = score_point(views(1), Eigen::Vector3d(X[3 * i], X[3 * i + 1], X[3 * i + 2]),
+                                      Eigen::Vector3d(nf[3 * i], nf[3 * i + 1], nf[3 * i + 2]), Options{},
+                                      scratch);
+    EXPECT_EQ(r.score, batch[i].score);
+    EXPECT_EQ(r.orientation, batch[i].orientation);
+    EXPECT_EQ(r.ref, batch[i].ref);
+    EXPECT_EQ(r.partners, batch[i].partners);
+  }
+}
+
+TEST(FaceScore, OutwardHighInwardZero) {
+  Options o;
+  Scratch scratch;
+  for (int w = 0; w < 3; ++w) {
+    const PlaneScene& s = scene(w);
+    const Eigen::Vector3d e1 = stable_perpendicular(s.N), e2 = s.N.cross(e1);
+    for (double size : {0.5, 3.0, 20.0}) {  // triangle size in pixels (patch is 11 px)
+      const double h = size * s.footprint;
+      const Eigen::Vector3d a = s.O + 0.05 * e1, b = a + h * e1, c = a + h * (0.5 * e1 + 0.9 * e2);
+      ASSERT_GT(triangle_normal(a, b, c).dot(s.N), 0.99);
+      const PatchResult out = face_patch(views(w), a, b, c, o, scratch);
+      ASSERT_TRUE(out.valid());
+      EXPECT_GT(out.omega(), 0.9f) << "scene " << w << " size " << size;
+      EXPECT_EQ(face_score(views(w), a, b, c, o, scratch), out.omega());
+      // The inward orientation (b, c swapped) faces away from all cameras.
+      const PatchResult in = face_patch(views(w), a, c, b, o, scratch);
+      EXPECT_FALSE(in.valid());
+      EXPECT_EQ(in.omega(), 0.0f);
+      EXPECT_EQ(face_score(views(w), a, c, b, o, scratch), 0.0f);
+    }
+  }
+}
+
+TEST(FaceScore, TiltedOrOffsetFacesScoreLower) {
+  Options o;
+  Scratch scratch;
+  const PlaneScene& s = scene(0);
+  const Views& v = views(0);
+  // A face 8 px off the surface: low.
+  for (double px : {8.0, -8.0}) {
+    const Eigen::Vector3d c = s.O + Eigen::Vector3d(0.02, -0.03, px * s.footprint);
+    const PatchResult r = score_patch(v, c, s.N, o, scratch);
+    ASSERT_TRUE(r.valid());
+    EXPECT_LT(r.omega(), 0.4f) << px;
+  }
+  // Tilting the patch normal away from the true one lowers the score monotonically
+  // (the 11x11 patch leaves the surface by up to 5 px sin(tilt)).
+  float prev = 2.f;
+  for (double deg : {0.0, 15.0, 30.0, 45.0}) {
+    const Eigen::Vector3d n = rotate(s.N, Eigen::Vector3d(1, 0.3, 0), deg);
+    const PatchResult r = score_patch(v, s.O, n, o, scratch);
+    ASSERT_TRUE(r.valid()) << deg;
+    EXPECT_LT(r.score, prev) << deg;
+    prev = r.score;
+  }
+  EXPECT_LT(prev, 0.85f);
+  // Zero normal and degenerate triangles are invalid, never NaN.
+  EXPECT_FALSE(score_patch(v, s.O, Eigen::Vector3d::Zero(), o, scratch).valid());
+  EXPECT_FALSE(face_patch(v, s.O, s.O, s.O + Eigen::Vector3d(0.1, 0, 0), o, scratch).valid());
+  EXPECT_EQ(face_score(v, s.O, s.O, s.O + Eigen::Vector3d(0.1, 0, 0), o, scratch), 0.0f);
+}
+
+TEST(FaceScore, OmegaTruncatesToUnitInterval) {
+  PatchResult r;
+  EXPECT_EQ(r.omega(), 0.0f);
+  r.ref = 1;
+  r.score = -0.3f;
+  EXPECT_EQ(r.omega(), 0.0f);
+  r.score = 0.45f;
+  EXPECT_EQ(r.omega(), 0.45f);
+  r.score = 1.0f;
+  EXPECT_EQ(r.omega(), 1.0f);
+}
+
+TEST(PhotoLattice, PointsAndDivisions) {
+  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  std::vector<Eigen::Vector3d> p;
+  triangle_lattice(a, b, c, 4, p);
+  ASSERT_EQ(p.size(), 15u);
+  EXPECT_EQ(p.front(), a);
+  EXPECT_EQ(p[4], b);
+  EXPECT_EQ(p.back(), c);
+  for (const auto& q : p) EXPECT_LE(q.x() + q.y(), 1.0 + 1e-12);
+  // Children of the midpoint split reuse the parent's points when n is even.
+  std::vector<Eigen::Vector3d> child;
+  triangle_lattice(a, (a + b) / 2, (a + c) / 2, 2, child);
+  for (const auto& q : child)
+    EXPECT_TRUE(std::any_of(p.begin(), p.end(), [&](const auto& r) { return (r - q).norm() < 1e-12; }));
+  // Divisions: every edge at most one pixel per lattice step in every view.
+  const PlaneScene& s = scene(0);
+  const Eigen::Vector3d A(-0.1, -0.1, 0), B(0.15, -0.1, 0), C(0, 0.2, 0);
+  const int n = lattice_divisions(views(0), A, B, C);
+  double longest = 0;
+  for (const auto& cam : s.cams)
+    for (auto [P, Q] : {std::pair{A, B}, {B, C}, {C, A}})
+      longest = std::max(longest, (cam.project(P) - cam.project(Q)).norm());
+  EXPECT_EQ(n, static_cast<int>(std::ceil(longest)));
+  EXPECT_EQ(lattice_divisions(views(0), A, B, C, 4.0), static_cast<int>(std::ceil(longest / 4)));
+  EXPECT_NEAR(finest_footprint(views(0), s.O), s.footprint, 1e-12);
+  EXPECT_TRUE(std::isinf(finest_footprint(views(0), Eigen::Vector3d(0, 0, 10))));
+}
+
+TEST(PointScore, PatchNormalParallelToFaceNormalUsesAStableLine) {
+  // n_X || n_f: the line is stable_perpendicular(n_f), in the face plane; for a face
+  // lying on the surface that line is on the surface.
+  const PlaneScene& s = scene(0);
+  Scratch scratch;
+  for (const auto& X : surface_points(s)) {
+    const PatchResult a = score_line(views(0), X, s.N, s.N, Options{}, scratch);
+    const PatchResult b = score_line(views(0), X, s.N, -3.0 * s.N, Options{}, scratch);
+    ASSERT_TRUE(a.valid());
+    EXPECT_GT(a.score, 0.9f);
+    EXPECT_EQ(a.score, score_line(views(0), X, s.N, s.N, Options{}, scratch).score);
+    // -n_f gives the same face plane and the perpendicular of -n_f: still on the surface.
+    ASSERT_TRUE(b.valid());
+    EXPECT_GT(b.score, 0.9f);
+    // Off the surface the score stays a number (never NaN).
+    EXPECT_FALSE(std::isnan(score_line(views(0), X + 10 * s.footprint * s.N, s.N, s.N, Options{}, scratch).score));
+  }
+}
