@@ -1,0 +1,44 @@
+// The minimum cut on the dual graph of the tetrahedral mesh (paper sections 2.1 and 3.1).
+//
+// Nodes are cells; every interior face f between cells a = face_cell(f,0) and
+// b = face_cell(f,1) gives two directed edges: a->b costs phi(omega[2f+0]) (face normal
+// from a to b: the outward normal when a is inside and b outside) and b->a costs
+// phi(omega[2f+1]). Cells labelled interior are tied to the source and exterior cells to
+// the sink with infinite capacity. Instead of infinite edges the graph is contracted:
+// every interior cell IS the source node, every exterior cell the sink node (an exact
+// equivalent that keeps the graph small). Boundary faces of the mesh separate their cell
+// from the outside world: an inside cell on the boundary pays for its boundary face.
+// Max-flow / min-cut: Boost.Graph's boykov_kolmogorov_max_flow on a compressed sparse
+// row graph.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "common/tetmesh/tetmesh.h"
+
+namespace tetmvs::cut {
+
+enum Label : std::int8_t { kExterior = -1, kFree = 0, kInterior = 1 };
+
+struct CutOptions {
+  double lambda = 1.0;
+  double sigma = 0.1;
+};
+
+struct CutResult {
+  std::vector<std::uint8_t> inside;  // per cell: 1 on the source (object) side
+  double energy = 0;                 // sum of phi over cut faces
+  double data_energy = 0;            // its data part
+  double area_energy = 0;            // its lambda * area part
+  double cut_area = 0;               // total area of the cut faces
+  double max_flow = 0;               // the flow found (equals energy minus fixed costs)
+  std::int64_t cut_faces = 0;
+  std::int64_t graph_nodes = 0, graph_edges = 0;  // after contraction, both directions
+  std::int64_t graph_bytes = 0;                   // memory of the graph and its maps
+};
+
+// omega: 2 per face (see top). labels: one per cell.
+CutResult min_cut(const tet::TetMesh& mesh, const std::vector<float>& omega,
+                  const std::vector<std::int8_t>& labels, const CutOptions& opt);
+
+}  // namespace tetmvs::cut

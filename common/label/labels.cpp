@@ -1,0 +1,200 @@
+#include "common/label/labels.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "common/error.h"
+#include "common/log.h"
+#include "common/tetmesh/locate.h"
+
+namespace tetmvs::label {
+
+std::vector<std::uint8_t> outside_visual_hull(const tet::TetMesh& m, const Scene& s) {
+  const std::int32_t C = m.num_cells();
+  std::vector<std::uint8_t> out(C, 0);
+  // distance (pixels) from each pixel to the nearest silhouette pixel
+  std::vector<cv::Mat> dist(s.size());
+  for (int v = 0; v < s.size(); ++v) {
+    if (!s.has_silhouette(v)) continue;
+    cv::Mat bg = s.sil[v] == 0;
+    cv::distanceTransform(bg, dist[v], cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  }
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::int32_t c = 0; c < C; ++c) {
+    Eigen::Vector3d X[4];
+    for (int k = 0; k < 4; ++k) X[k] = m.vertex(m.cell_v[c][k]);
+    for (int v = 0; v < s.size() && !out[c]; ++v) {
+      if (dist[v].empty()) continue;
+      const Camera& cam = s.cams[v];
+      Eigen::Vector2d p[4], centre = Eigen::Vector2d::Zero();
+      bool front = true;
+      for (int k = 0; k < 4; ++k) {
+        front = front && cam.depth(X[k]) > 0;
+        p[k] = cam.project(X[k]);
+        centre += p[k] / 4.0;
+      }
+      if (!front) continue;
+      double r = 0;
+      for (int k = 0; k < 4; ++k) r = std::max(r, (p[k] - centre).norm());
+      r += 1.5;  // pixel rounding of the silhouette and of the distance transform
+      if (centre.x() - r < 0 || centre.y() - r < 0 || centre.x() + r > cam.width - 1 ||
+          centre.y() + r > cam.height - 1)
+        continue;  // partly outside the image: never carves
+      const int u = static_cast<int>(std::lround(centre.x())), w = static_cast<int>(std::lround(centre.y()));
+      if (dist[v].at<float>(w, u) > r + 0.75) out[c] = 1;
+    }
+  }
+  return out;
+}
+
+std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s, const QPoints& q,
+                                           double offset, std::int64_t* rays) {
+  std::vector<std::int32_t> votes(m.num_cells(), 0);
+  const std::int64_t P = q.size();
+  std::int64_t nrays = 0;
+  Progress prog("label: votes", P);
+#pragma omp parallel reduction(+ : nrays)
+  {
+    std::vector<tet::WalkHit> hits;
+#pragma omp for schedule(dynamic, 256)
+    for (std::int64_t p = 0; p < P; ++p) {
+      const Eigen::Vector3d X = q.pos(p);
+      for (std::int64_t k = q.cam_offsets[p]; k < q.cam_offsets[p + 1]; ++k) {
+        const Eigen::Vector3d dir = (s.cams[q.cams[k]].centre() - X).normalized();
+        tet::walk_ray(m, X + offset * dir, dir, hits);
+        for (const auto& h : hits) {
+#pragma omp atomic
+          ++votes[h.cell];
+        }
+        ++nrays;
+      }
+      prog.tick();
+    }
+  }
+  prog.done();
+  if (rays) *rays = nrays;
+  return votes;
+}
+
+namespace {
+
+// Per-view depth maps of Q: the smallest depth of the points consistent in that view,
+// splatted over a disc of `radius_px` pixels (0 = no depth).
+std::vector<cv::Mat> q_depth_maps(const Scene& s, const QPoints& q, double cell) {
+  std::vector<cv::Mat> maps(s.size());
+  for (int v = 0; v < s.size(); ++v) maps[v] = cv::Mat::zeros(s.cams[v].height, s.cams[v].width, CV_32F);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int v = 0; v < s.size(); ++v) {
+    const Camera& cam = s.cams[v];
+    cv::Mat& d = maps[v];
+    for (std::int64_t p = 0; p < q.size(); ++p) {
+      bool in = false;
+      for (std::int64_t k = q.cam_offsets[p]; k < q.cam_offsets[p + 1] && !in; ++k) in = q.cams[k] == v;
+      if (!in) continue;
+      const Eigen::Vector3d X = q.pos(p);
+      const double z = cam.depth(X);
+      if (z <= 0) continue;
+      const Eigen::Vector2d px = cam.project(X);
+      const int r = std::max(1, static_cast<int>(std::ceil(cell * cam.focal() / z)));
+      const int u0 = static_cast<int>(std::lround(px.x())), w0 = static_cast<int>(std::lround(px.y()));
+      for (int w = w0 - r; w <= w0 + r; ++w)
+        for (int u = u0 - r; u <= u0 + r; ++u) {
+          if (u < 0 || w < 0 || u >= d.cols || w >= d.rows || (u - u0) * (u - u0) + (w - w0) * (w - w0) > r * r)
+            continue;
+          float& cur = d.at<float>(w, u);
+          if (cur == 0 || z < cur) cur = static_cast<float>(z);
+        }
+    }
+  }
+  return maps;
+}
+
+double percentile(std::vector<std::int32_t> v, double pct) {
+  if (v.empty()) return 0;
+  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(std::floor(pct / 100.0 * (v.size() - 1) + 0.5)));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[k];
+}
+
+}  // namespace
+
+Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, const Options& o) {
+  const std::int32_t C = m.num_cells();
+  Result r;
+  r.label.assign(C, 0);
+  r.reason.assign(C, kNone);
+  const int finest = m.max_cell_level();
+  const double cell = tet::red_edge_length(m.lat, finest);
+  // 1. the box boundary
+  for (std::int32_t f = 0; f < m.num_faces(); ++f)
+    if (m.face_on_boundary(f)) {
+      const std::int32_t c = m.face_cell(f, 0);
+      r.label[c] = -1;
+      r.reason[c] = kBoundary;
+    }
+  // 2. the visual hull
+  const auto hull_out = outside_visual_hull(m, s);
+  for (std::int32_t c = 0; c < C; ++c)
+    if (hull_out[c] && r.label[c] == 0) {
+      r.label[c] = -1;
+      r.reason[c] = kOutsideHull;
+    }
+  // 3. votes
+  r.votes = visibility_votes(m, s, q, o.vote_offset * cell, &r.rays);
+  std::vector<std::int32_t> pool;
+  std::vector<std::int32_t> candidates;
+  for (std::int32_t c = 0; c < C; ++c) {
+    if (r.label[c] != 0) continue;
+    if (m.node_level[m.cell_node[c]] >= finest) continue;  // active band: left to the cut
+    candidates.push_back(c);
+    pool.push_back(r.votes[c]);
+  }
+  r.low_votes = percentile(pool, o.low_percentile);
+  r.high_votes = percentile(pool, o.high_percentile);
+  const auto depth = q_depth_maps(s, q, cell);
+  const double margin = o.depth_margin * cell;
+  std::vector<std::int8_t> decided(C, 0);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const std::int32_t c = candidates[i];
+    const Eigen::Vector3d X = m.cell_centroid(c);
+    int hidden = 0, free_space = 0;
+    for (int v = 0; v < s.size(); ++v) {
+      const Camera& cam = s.cams[v];
+      const double z = cam.depth(X);
+      if (z <= 0) continue;
+      const Eigen::Vector2d p = cam.project(X);
+      const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
+      if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
+      const float d = depth[v].at<float>(w, u);
+      if (d == 0) continue;
+      if (z > d + margin) ++hidden;
+      else if (z < d - margin) ++free_space;
+    }
+    const int votes = r.votes[c];
+    if (votes <= r.low_votes && free_space == 0 && hidden >= o.min_occluding_views) decided[c] = 1;
+    else if (votes > r.high_votes && votes >= o.min_exterior_votes && free_space > 0) decided[c] = -1;
+  }
+  for (std::int32_t c : candidates) {
+    if (decided[c] == 1) {
+      r.label[c] = 1;
+      r.reason[c] = kHidden;
+    } else if (decided[c] == -1) {
+      r.label[c] = -1;
+      r.reason[c] = kVotedOut;
+    }
+  }
+  for (std::int32_t c = 0; c < C; ++c) {
+    r.interior += r.label[c] == 1;
+    r.exterior += r.label[c] == -1;
+    r.boundary += r.reason[c] == kBoundary;
+    r.hull_exterior += r.reason[c] == kOutsideHull;
+    r.voted_out += r.reason[c] == kVotedOut;
+  }
+  return r;
+}
+
+}  // namespace tetmvs::label

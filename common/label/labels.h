@@ -1,0 +1,64 @@
+// Hard labels for the cut (paper sections 2.1 and 2.4): which cells are surely outside
+// (exterior, tied to the sink) and which surely inside (interior, tied to the source).
+//
+//  exterior  cells touching the mesh boundary (the box);
+//            cells outside the visual hull: in some view with a silhouette the whole
+//            projected cell (a disc around it) lies inside the image and outside the
+//            silhouette (parts outside an image never carve);
+//            inactive cells whose visibility votes exceed the upper percentile, that are
+//            seen as free space (in front of Q by a margin) in some view.
+//  interior  inactive cells inside the hull whose votes are at most the lower percentile
+//            AND that are hidden behind Q in every view where Q gives a depth there
+//            (at least `min_occluding_views` such views, none showing it as free space).
+//            The second condition keeps unreachable cavities (a cup's inside, which no ray
+//            crosses) from becoming interior: some camera sees their air in front of the
+//            cavity walls' points.
+// Votes: every point of Q casts a ray to each camera it is photo-consistent in, starting
+// `vote_offset` cell sizes in front of the point; every cell the ray crosses gets a vote.
+// "Inactive" cells are the cells coarser than the finest level (away from the surface).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "common/qpoints.h"
+#include "common/scene.h"
+#include "common/tetmesh/tetmesh.h"
+
+namespace tetmvs::label {
+
+enum Reason : std::uint8_t {
+  kNone = 0,
+  kBoundary = 1,      // exterior: touches the mesh boundary
+  kOutsideHull = 2,   // exterior: outside a silhouette
+  kVotedOut = 3,      // exterior: many votes, seen as free space
+  kHidden = 4,        // interior: few votes, hidden behind Q in every view
+};
+
+struct Options {
+  double low_percentile = 10;   // paper: 10th
+  double high_percentile = 75;  // paper: 75th
+  int min_exterior_votes = 3;   // exterior by votes needs at least this many votes
+  int min_occluding_views = 3;  // interior needs Q depth behind it in this many views
+  double vote_offset = 1.0;     // rays start this many finest cell sizes in front of a point
+  double depth_margin = 2.0;    // occlusion / free-space margin, in finest cell sizes
+};
+
+struct Result {
+  std::vector<std::int8_t> label;    // per cell: 1 interior, -1 exterior, 0 free
+  std::vector<std::uint8_t> reason;  // Reason
+  std::vector<std::int32_t> votes;
+  double low_votes = 0, high_votes = 0;  // the percentile values
+  std::int64_t interior = 0, exterior = 0, hull_exterior = 0, boundary = 0, voted_out = 0;
+  std::int64_t rays = 0;
+};
+
+// Per cell: 1 when the cell is surely outside the visual hull (see top).
+std::vector<std::uint8_t> outside_visual_hull(const tet::TetMesh& m, const Scene& s);
+
+// Visibility votes of Q (see top). offset in world units.
+std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s, const QPoints& q,
+                                           double offset, std::int64_t* rays = nullptr);
+
+Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, const Options& o);
+
+}  // namespace tetmvs::label

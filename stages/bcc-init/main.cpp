@@ -1,0 +1,47 @@
+// bcc-init: the level-0 body-centred-cubic tetrahedral mesh M0 of the scene box
+// (Algorithm 1: M0 <- BuildBCCMesh(B)). Schema: schemas/mesh.md.
+#include <iostream>
+
+#include "common/error.h"
+#include "common/scene.h"
+#include "common/stage.h"
+#include "common/tetmesh/mesh_io.h"
+#include "common/tetmesh/projection.h"
+#include "common/tetmesh/stage_common.h"
+
+using namespace tetmvs;
+
+int main(int argc, char** argv) {
+  StageCli cli("bcc-init",
+               "Builds M0, the BCC tetrahedral mesh covering the scene box (mesh.cells cubes along the "
+               "longest side, all tets congruent), and writes mesh_0.h5. With --print-levels it only "
+               "prints the number of refinement levels for the pixel target refine.target_pixels.");
+  std::string scene_file, out;
+  bool print_levels = false;
+  tet::InspectOptions insp;
+  cli.app().add_option("--scene", scene_file, "scene.h5 (cameras and bounding box)")->required();
+  cli.app().add_option("-o,--out", out, "output mesh file (mesh_0.h5)");
+  cli.app().add_flag("--print-levels", print_levels,
+                     "print (stdout) how many refinement levels reach refine.target_pixels, then exit");
+  insp.add_to(cli.app());
+  return cli.run(argc, argv, [&](StageContext& ctx) {
+    const Scene scene = read_scene(scene_file, /*images=*/false);
+    const tet::Lattice lat = tet::lattice_for_box(scene.box, ctx.params.i("mesh.cells"));
+    if (print_levels) {
+      const double px = ctx.params.d("refine.target_pixels");
+      const int L = tet::levels_for_pixels(lat, scene.box, scene.cams, px);
+      std::cout << L << std::endl;
+      ctx.summary = "levels=" + std::to_string(L) + " for " + std::to_string(px) + " px";
+      return;
+    }
+    require(!out.empty(), "bcc-init: --out is required (unless --print-levels)");
+    const tet::TetMesh m = tet::build_bcc(lat);
+    tet::write_mesh(out, m, "bcc-init", ctx.params.values_for("bcc-init"), {scene_file});
+    insp.write(m);
+    std::ostringstream os;
+    os << "cells=" << m.num_cells() << " faces=" << m.num_faces() << " vertices=" << m.num_vertices()
+       << " h=" << lat.h << " grid=" << lat.dims[0] << "x" << lat.dims[1] << "x" << lat.dims[2]
+       << " finest=" << tet::max_projected_cell_size(m, scene.cams) << "px";
+    ctx.summary = os.str();
+  });
+}

@@ -1,0 +1,89 @@
+// cut: the minimum s-t cut on the dual graph of the mesh (paper section 3.1, Eq. 1).
+// Reads the final mesh, the face scores (scores.h5) and hard labels (labels.h5, or
+// silfix.h5 for the second cut); writes the cut (cells' sides, energy) and the surface.
+#include <filesystem>
+#include <sstream>
+
+#include "common/cut/graph_cut.h"
+#include "common/cut/surface.h"
+#include "common/error.h"
+#include "common/h5io.h"
+#include "common/image.h"
+#include "common/ply.h"
+#include "common/render/shaded.h"
+#include "common/scene.h"
+#include "common/stage.h"
+#include "common/tetmesh/mesh_io.h"
+#include "common/trimesh/check.h"
+
+namespace fs = std::filesystem;
+using namespace tetmvs;
+
+int main(int argc, char** argv) {
+  StageCli cli("cut",
+               "Minimum cut of the mesh's dual graph with Eq. 1 face costs: cells tied to the "
+               "source (interior) and sink (exterior) by the labels; writes the cells' sides and "
+               "the cut surface as an outward, edge-manifold PLY mesh.");
+  std::string mesh_file, scores_file, labels_file, out, ply, scene_file, png;
+  cli.app().add_option("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)")->required();
+  cli.app().add_option("--scores", scores_file, "face scores from photoconsist --scores (scores.h5)")->required();
+  cli.app().add_option("--labels", labels_file, "hard labels (labels.h5 or silfix.h5)")->required();
+  cli.app().add_option("--out", out, "cut file (HDF5, schemas/cut.md)")->required();
+  cli.app().add_option("--ply", ply, "cut surface (binary PLY)")->required();
+  cli.app().add_option("--scene", scene_file, "scene.h5: with --png, render the surface from four views");
+  cli.app().add_option("--png", png, "PNG of the surface rendered from four views (needs --scene)");
+  return cli.run(argc, argv, [&](StageContext& ctx) {
+    const tet::TetMesh mesh = tet::read_mesh(mesh_file);
+    const std::int64_t F = mesh.num_faces(), C = mesh.num_cells();
+    auto sf = h5::File::open(scores_file, "tetmvs.scores");
+    const auto omega = sf.read<float>("/faces/omega", {F, 2});
+    for (float w : omega.data)
+      require(w >= 0.0f && w <= 1.0f, scores_file, ": /faces/omega values must lie in [0, 1]");
+    auto lf = h5::File::open(labels_file, "tetmvs.labels");
+    const auto labels = lf.read<std::int8_t>("/cells/label", {C});
+    for (auto l : labels.data)
+      require(l >= -1 && l <= 1, labels_file, ": /cells/label values must be -1, 0 or 1");
+    cut::CutOptions opt;
+    opt.lambda = ctx.params.d("cut.lambda");
+    opt.sigma = ctx.params.d("cut.sigma");
+    info("cut: ", C, " cells, ", F, " faces, lambda ", opt.lambda, ", sigma ", opt.sigma);
+    const cut::CutResult r = cut::min_cut(mesh, omega.data, labels.data, opt);
+    require(r.cut_faces > 0, labels_file, ": the cut is empty (no interior cells survive); check the labels");
+    cut::SurfaceStats st;
+    std::vector<std::int32_t> face_ids;
+    TriMesh surface = cut::cut_surface(mesh, r.inside, &st, &face_ids);
+    const MeshCheck chk = check_mesh(surface);
+
+    auto f = h5::File::create(out);
+    f.write_header("tetmvs.cut", 1, "cut", ctx.params.values_for("cut"), {mesh_file, scores_file, labels_file});
+    f.write("/cells/inside", r.inside, {static_cast<std::uint64_t>(C)});
+    f.write("/surface/face", face_ids);
+    f.set_attr("/", "energy", r.energy);
+    f.set_attr("/", "data_energy", r.data_energy);
+    f.set_attr("/", "area_energy", r.area_energy);
+    f.set_attr("/", "cut_area", r.cut_area);
+    f.set_attr("/", "max_flow", r.max_flow);
+    f.set_attr("/", "cut_faces", r.cut_faces);
+    f.set_attr("/", "graph_nodes", r.graph_nodes);
+    f.set_attr("/", "graph_edges", r.graph_edges);
+    f.set_attr("/", "graph_bytes", r.graph_bytes);
+    f.set_attr("/", "split_vertices", st.split_vertices);
+    f.set_attr("/", "components", static_cast<std::int64_t>(chk.components.size()));
+    f.set_attr("/", "closed", static_cast<std::int64_t>(chk.closed));
+    f.set_attr("/", "edge_manifold", static_cast<std::int64_t>(chk.edge_manifold));
+    write_ply(ply, surface, {false, "tetmvs cut: outward-oriented triangles, world frame"});
+    f.commit();
+    if (!png.empty()) {
+      require(!scene_file.empty(), "--png needs --scene");
+      const Scene scene = read_scene(scene_file, false);
+      write_png_rgb(png, render_sheet(surface, scene));
+    }
+    std::ostringstream os;
+    os << r.cut_faces << " faces, " << surface.nv() << " vertices, " << chk.components.size()
+       << " components, " << (chk.closed ? "closed" : "OPEN") << ", "
+       << (chk.edge_manifold ? "edge-manifold" : "NON-MANIFOLD") << ", energy " << r.energy << " (data "
+       << r.data_energy << ", area " << r.area_energy << "), graph " << r.graph_nodes << " nodes "
+       << r.graph_edges << " edges " << r.graph_bytes / 1048576.0 << " MB";
+    ctx.summary = os.str();
+  });
+}

@@ -1,0 +1,74 @@
+// label: hard interior / exterior labels of the cells (paper sections 2.1 and 2.4):
+// the box boundary and the visual hull give exterior cells; visibility votes of the
+// quasi-dense points Q, with an occlusion check, give interior and more exterior cells.
+#include <sstream>
+
+#include "common/error.h"
+#include "common/h5io.h"
+#include "common/label/labels.h"
+#include "common/qpoints.h"
+#include "common/scene.h"
+#include "common/stage.h"
+#include "common/image.h"
+#include "common/tetmesh/mesh_io.h"
+#include "common/tetmesh/slice.h"
+
+using namespace tetmvs;
+
+int main(int argc, char** argv) {
+  StageCli cli("label",
+               "Labels the cells of the final mesh: exterior (box boundary, outside the visual "
+               "hull, many visibility votes), interior (few votes and hidden behind Q in every "
+               "view), or free for the cut to decide.");
+  std::string scene_file, mesh_file, scores_file, out, slice;
+  cli.app().add_option("--scene", scene_file, "scene.h5")->required();
+  cli.app().add_option("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)")->required();
+  cli.app().add_option("--scores", scores_file, "scores.h5 of photoconsist (holds the points Q)")->required();
+  cli.app().add_option("--out", out, "labels file (HDF5, schemas/labels.md)")->required();
+  cli.app().add_option("--slice-png", slice, "PNG slice through the mesh coloured by label");
+  return cli.run(argc, argv, [&](StageContext& ctx) {
+    const Scene scene = read_scene(scene_file, false);
+    const tet::TetMesh mesh = tet::read_mesh(mesh_file);
+    auto sf = h5::File::open(scores_file, "tetmvs.scores");
+    const QPoints q = read_qpoints(sf, scene.size());
+    label::Options o;
+    o.low_percentile = ctx.params.d("label.low_percentile");
+    o.high_percentile = ctx.params.d("label.high_percentile");
+    require(o.low_percentile < o.high_percentile, "label.low_percentile must be below label.high_percentile");
+    o.min_exterior_votes = ctx.params.i("label.min_exterior_votes");
+    o.min_occluding_views = ctx.params.i("label.min_occluding_views");
+    o.vote_offset = ctx.params.d("label.vote_offset");
+    o.depth_margin = ctx.params.d("label.depth_margin");
+    info("label: ", mesh.num_cells(), " cells, ", q.size(), " points, ", scene.num_silhouettes(), " silhouettes");
+    const label::Result r = label::label_cells(mesh, scene, q, o);
+    require(r.interior > 0, scores_file, ": no cell could be labelled interior (too few points Q?); "
+            "lower label.min_occluding_views or raise label.low_percentile");
+    auto f = h5::File::create(out);
+    f.write_header("tetmvs.labels", 1, "label", ctx.params.values_for("label"), {scene_file, mesh_file, scores_file});
+    f.write("/cells/label", r.label);
+    f.write("/cells/reason", r.reason);
+    f.write("/cells/votes", r.votes);
+    f.set_attr("/", "low_votes", r.low_votes);
+    f.set_attr("/", "high_votes", r.high_votes);
+    f.set_attr("/", "interior", r.interior);
+    f.set_attr("/", "exterior", r.exterior);
+    f.set_attr("/", "boundary", r.boundary);
+    f.set_attr("/", "hull_exterior", r.hull_exterior);
+    f.set_attr("/", "voted_out", r.voted_out);
+    f.set_attr("/", "rays", r.rays);
+    f.commit();
+    if (!slice.empty()) {
+      // a slice through the box centre, cells coloured by label
+      tet::SliceSpec spec;
+      spec.axis = 2;
+      spec.position = scene.box.center().z();
+      const std::vector<int> lab(r.label.begin(), r.label.end());
+      write_png_rgb(slice, tet::render_slice(mesh, spec, tet::colours_by_label(lab)));
+    }
+    std::ostringstream os;
+    os << r.interior << " interior, " << r.exterior << " exterior (" << r.boundary << " boundary, "
+       << r.hull_exterior << " hull, " << r.voted_out << " votes), " << r.rays << " rays, vote percentiles "
+       << r.low_votes << " / " << r.high_votes;
+    ctx.summary = os.str();
+  });
+}
