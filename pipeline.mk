@@ -66,8 +66,11 @@ $(BIN)/%: | programs ;
 MIDDLEBURY := dinoRing templeRing dinoSparseRing templeSparseRing
 $(DATA_DIR)/%/.present:
 	@bash $(ROOT)/scripts/fetch_middlebury.sh $* $(DATA_DIR)
+# Synthetic scenes use dinoRing's 48 cameras when the set is at hand, else a generated ring.
+SYNTH_CAMERAS ?= $(firstword $(wildcard $(DATA_DIR)/dinoRing/dinoR_par.txt) ring)
+SYNTH_FLAGS   ?=
 $(SYNTH_DIR)/synth-%/gt.ply: | programs
-	$(BIN)/synth --object $* --out $(SYNTH_DIR)/synth-$* $(SYNTH_FLAGS) $(STAGE_FLAGS)
+	$(BIN)/synth --object $* --cameras $(SYNTH_CAMERAS) --out $(SYNTH_DIR)/synth-$* $(SYNTH_FLAGS) $(if $(QUIET),--quiet)
 
 ifneq ($(filter synth-%,$(DATA)),)
 DATASET_READY := $(GT)
