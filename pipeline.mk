@@ -47,19 +47,20 @@ has = $(filter $(1),$(PROGRAMS))
 # --set arguments of stage $(1) from the variables given on the command line
 set_args = $(strip $(foreach v,$(MAKE_PARAMS),$(if $(and $(filter $(1),$(PARAM_$(v)_STAGES)),$(filter command line,$(origin $(v)))),--set $(PARAM_$(v)_KEY)=$($(v)))))
 STAMPS := $(RUN_DIR)/.params
-# A stage's stamp holds its parameter arguments and is rewritten only when they change.
-$(STAMPS)/%.args: FORCE
-	@mkdir -p $(@D)
-	@echo '$(call set_args,$*) $(STAGE_FLAGS) $(if $(PARAMS),$(shell sha256sum $(PARAMS) | cut -c1-16))' > $@.new
-	@if cmp -s $@.new $@; then rm -f $@.new; else mv -f $@.new $@; fi
-FORCE:
-.PRECIOUS: $(STAMPS)/%.args
+# A stage's stamp file holds its parameter arguments; it is rewritten (here, when the
+# makefile is read) only when they change, so its time stamp tells make exactly when the
+# stage's parameters last changed. Done at parse time so that `make -n` is truthful.
+ALL_STAGES := ingest bcc-init photoconsist refine label cut silhouette-fix deform evaluate
+stamp_text = $(call set_args,$(1)) $(STAGE_FLAGS) $(if $(PARAMS),$(firstword $(shell sha256sum $(PARAMS))))
+ifeq ($(filter help clean,$(MAKECMDGOALS)),)
+_stamps := $(foreach s,$(ALL_STAGES),$(shell mkdir -p '$(STAMPS)' && printf '%s\n' '$(call stamp_text,$(s))' > '$(STAMPS)/$(s).args.new' && { cmp -s '$(STAMPS)/$(s).args.new' '$(STAMPS)/$(s).args' && rm -f '$(STAMPS)/$(s).args.new' || mv -f '$(STAMPS)/$(s).args.new' '$(STAMPS)/$(s).args'; }))
+endif
 args = $(call set_args,$(1)) $(STAGE_FLAGS)
 
 # --- programs ---------------------------------------------------------------------------
 .PHONY: programs
 programs:
-	@bash $(ROOT)/scripts/build.sh
+	@BUILD_DIR=$(BUILD_DIR) bash $(ROOT)/scripts/build.sh
 $(BIN)/%: | programs ;
 
 # --- data ---------------------------------------------------------------------------------

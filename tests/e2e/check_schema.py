@@ -22,21 +22,44 @@ COMMON = [
 
 
 def parse_table(md_path):
+    """Rows (path, kind, dtype, shape) of every table in a schema document.
+
+    Tables are read by their header: `| path | kind | dtype | shape | meaning |`,
+    `| dataset | dtype | shape | meaning |` (datasets), or `| attribute | type | meaning |`
+    (root attributes).
+    """
     rows = []
+    header = None
     for line in open(md_path, encoding="utf-8"):
-        if not line.startswith("| `"):
+        line = line.strip()
+        if not line.startswith("|"):
+            header = None
             continue
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) < 4:
+        cells = [c.strip() for c in line.strip("|").split("|")]
+        if header is None:
+            header = [c.lower() for c in cells]
             continue
-        path = cells[0].strip("`")
-        rows.append((path, cells[1], cells[2], cells[3]))
+        if set("".join(cells)) <= set("-: "):
+            continue
+        row = dict(zip(header, cells))
+        first = cells[0]
+        if not first.startswith("`"):
+            continue
+        name = first.strip("`")
+        if "path" in row and "kind" in row:
+            rows.append((name, row["kind"], row.get("dtype", ""), row.get("shape", "")))
+        elif "dataset" in row:
+            rows.append((name, "dataset", row.get("dtype", ""), row.get("shape", "")))
+        elif "attribute" in row:
+            t = row.get("type", "")
+            dtype = t if t in ("string", "json", "float64", "int64", "int32") else ("int64" if t == "int" else "")
+            rows.append(("/", "attr:" + name, dtype, ""))
     return rows
 
 
 def parse_shape(s):
     s = s.strip()
-    if not s:
+    if not s or not s.startswith("("):
         return None
     inner = s.strip("()")
     return [p.strip() for p in inner.split(",") if p.strip()]
@@ -97,6 +120,8 @@ def check(md, fname):
             if dtype == "string":
                 if obj.dtype.kind not in "OSU":
                     problems.append(f"{fname}: {path} has dtype {obj.dtype}, expected string")
+            elif not dtype:
+                pass
             elif obj.dtype != np.dtype(dtype):
                 problems.append(f"{fname}: {path} has dtype {obj.dtype}, expected {dtype}")
             elif obj.dtype.kind == "f" and obj.size and not np.all(np.isfinite(obj[()])):
