@@ -90,6 +90,16 @@ TetMesh read_mesh(const std::filesystem::path& file) {
   m.num_level0 = static_cast<std::int32_t>(f.attr_int("/", "num_level0"));
   m.vlat = f.read<std::int32_t>("/vertices_lattice", {h5::kAny, 3}).data;
   const auto NV = static_cast<std::int64_t>(m.vlat.size() / 3);
+  {
+    // /vertices is derived from the lattice; it must agree (and be finite: read<> checks)
+    const auto xyz = f.read<double>("/vertices", {NV, 3}).data;
+    for (std::int64_t v = 0; v < NV; ++v)
+      for (int k = 0; k < 3; ++k) {
+        const double want = m.lat.origin[k] + m.lat.unit() * m.vlat[3 * v + k];
+        require(std::abs(xyz[3 * v + k] - want) <= 1e-9 * m.lat.h + 1e-12 * std::abs(want), name, ": /vertices row ", v,
+                " disagrees with /vertices_lattice (file edited or corrupt)");
+      }
+  }
   m.vparent = f.read<std::int32_t>("/vertex_parent", {NV, 2}).data;
   m.cell_v = unflat<std::int32_t, 4>(f.read<std::int32_t>("/cells", {h5::kAny, 4}).data);
   const auto NC = static_cast<std::int64_t>(m.cell_v.size());

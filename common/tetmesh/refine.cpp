@@ -381,6 +381,19 @@ TetMesh refine(const TetMesh& old, const std::vector<std::uint8_t>& active, Refi
       }
     }
     if (done) continue;
+    // fast path: a face inside one new node (between its red children or its green parts)
+    // whose old ancestor was an unsplit cell lies inside that old cell
+    if (m.face_half[f][1] >= 0) {
+      const std::int32_t c0 = m.face_half[f][0] >> 2, c1 = m.face_half[f][1] >> 2;
+      std::int32_t n0 = m.cell_node[c0], n1 = m.cell_node[c1];
+      if (m.cell_colour[c0] == kRed) n0 = m.node_parent[n0];
+      if (m.cell_colour[c1] == kRed) n1 = m.node_parent[n1];
+      if (n0 == n1 && n0 >= 0) {
+        std::int32_t a = n0;
+        while (a >= old_nodes) a = m.node_parent[a];
+        if (old.node_ncell[a] == 1) continue;  // stays -1 / -1
+      }
+    }
     std::int32_t n = m.cell_node[m.face_half[f][0] >> 2];
     while (n >= old_nodes) n = m.node_parent[n];
     const auto fv = m.face_vertices(f);

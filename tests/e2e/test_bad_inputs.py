@@ -1,0 +1,224 @@
+#!/usr/bin/env python3
+"""The bad-input matrix: every stage, fed a missing, empty, truncated, foreign, or
+corrupted input (wrong schema, dtype, shape, NaN) or a parameter out of range, must fail
+with ONE error line that names the file (or parameter) and the problem, exit non-zero,
+and leave no output file behind (not even a temporary one).
+
+usage: test_bad_inputs.py BIN_DIR SOURCE_DIR
+"""
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import h5py
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(__file__))
+import tiny_run  # noqa: E402
+
+BIN, SRC = sys.argv[1], sys.argv[2]
+failures, passed, cases = [], 0, 0
+
+
+def expect(cond, msg):
+    global passed
+    if cond:
+        passed += 1
+    else:
+        failures.append(msg)
+        print("FAIL:", msg)
+
+
+# ---- mutations of an input file; each returns (path, words expected in the message) ----
+def m_missing(src, tmp):
+    return os.path.join(tmp, "absent.h5"), ["absent.h5", ("does not exist", "missing")]
+
+
+def m_empty(src, tmp):
+    p = os.path.join(tmp, "empty" + os.path.splitext(src)[1])
+    open(p, "wb").close()
+    return p, ["empty"]
+
+
+def m_truncated(src, tmp):
+    p = os.path.join(tmp, "trunc" + os.path.splitext(src)[1])
+    data = open(src, "rb").read()
+    open(p, "wb").write(data[: len(data) // 3])
+    return p, ["trunc"]
+
+
+def m_text(src, tmp):
+    p = os.path.join(tmp, "text" + os.path.splitext(src)[1])
+    open(p, "w").write("this is not the file you are looking for\n")
+    return p, ["text"]
+
+
+def m_schema(other):
+    def f(src, tmp):
+        p = os.path.join(tmp, "foreign.h5")
+        shutil.copy(other, p)
+        return p, ["foreign.h5", "expected"]
+    return f
+
+
+def m_version(src, tmp):
+    p = os.path.join(tmp, "version.h5")
+    shutil.copy(src, p)
+    with h5py.File(p, "r+") as f:
+        f.attrs["schema_version"] = np.int64(99)
+    return p, ["version.h5", "version 99"]
+
+
+def m_dataset(name, how):
+    def f(src, tmp):
+        p = os.path.join(tmp, f"bad_{how}.h5")
+        shutil.copy(src, p)
+        with h5py.File(p, "r+") as h:
+            d = h[name][()]
+            del h[name]
+            if how == "nan":
+                d = d.astype(d.dtype)
+                d.flat[len(d.flat) // 2] = np.nan
+                h[name] = d
+            elif how == "dtype":
+                h[name] = d.astype(np.float32 if d.dtype.kind in "iu" else np.int32)
+            elif how == "shape":
+                h[name] = d.reshape(-1)[:-1] if d.ndim == 1 else d[:, :-1]
+            elif how == "missing":
+                pass
+        return p, [f"bad_{how}.h5", name]
+    return f
+
+
+H5_BASIC = [m_missing, m_empty, m_truncated, m_text, m_version]
+
+
+def run_case(stage, argv, outputs, words, what):
+    global cases
+    cases += 1
+    for o in outputs:
+        if os.path.exists(o):
+            os.remove(o)
+    r = subprocess.run([os.path.join(BIN, stage)] + argv, capture_output=True, text=True)
+    msg = r.stderr.strip()
+    errs = [l for l in msg.splitlines() if "error" in l]
+    def has(w):
+        alts = w if isinstance(w, tuple) else (w,)
+        return bool(errs) and any(a.lower() in errs[0].lower() for a in alts)
+    ok = r.returncode != 0 and len(errs) == 1 and all(has(w) for w in words)
+    expect(r.returncode != 0, f"{stage} {what}: exit 0")
+    expect(len(errs) == 1, f"{stage} {what}: expected one error line, got {msg!r}")
+    for w in words:
+        expect(has(w), f"{stage} {what}: {errs[:1]} lacks {w!r}")
+    for o in outputs:
+        expect(not os.path.exists(o), f"{stage} {what}: output {o} exists")
+        d = os.path.dirname(o)
+        left = [p for p in os.listdir(d) if ".tmp." in p] if os.path.isdir(d) else []
+        expect(not left, f"{stage} {what}: temporary files left {left}")
+    if not ok:
+        print("   stderr:", msg[:300])
+
+
+def matrix(stage, argv_of, slots, outputs, tmp, extra_cases=()):
+    """argv_of(inputs) -> argv; slots: {slot: (valid_path, [mutations])}."""
+    valid = {k: v[0] for k, v in slots.items()}
+    # the valid call must succeed (otherwise the matrix proves nothing)
+    r = subprocess.run([os.path.join(BIN, stage)] + argv_of(valid) + ["-q"], capture_output=True, text=True)
+    expect(r.returncode == 0, f"{stage}: the valid baseline fails: {r.stderr.strip()}")
+    for o in outputs:
+        if os.path.exists(o):
+            os.remove(o)
+    for slot, (path, muts) in slots.items():
+        for mut in muts:
+            d = tempfile.mkdtemp(dir=tmp)
+            bad, words = mut(path, d)
+            inputs = dict(valid)
+            inputs[slot] = bad
+            run_case(stage, argv_of(inputs), outputs, words, f"{slot}={os.path.basename(bad)} ({mut.__name__ if hasattr(mut, '__name__') else ''})")
+    for argv_extra, words, what in extra_cases:
+        run_case(stage, argv_of(valid) + argv_extra, outputs, words, what)
+
+
+def main():
+    have = {s for s in tiny_run.stages(SRC) if os.path.exists(os.path.join(BIN, s))}
+    run = tiny_run.build(BIN, SRC, "mesh")
+    tmp = tempfile.mkdtemp(prefix="tetmvs_bad_")
+    out_dir = os.path.join(tmp, "out")
+    os.makedirs(out_dir)
+    scene, mesh0 = os.path.join(run, "scene.h5"), os.path.join(run, "mesh_0.h5")
+    try:
+        # bcc-init: scene.h5
+        out = os.path.join(out_dir, "mesh_0.h5")
+        matrix("bcc-init", lambda i: ["--scene", i["scene"], "--out", out],
+               {"scene": (scene, H5_BASIC + [m_schema(mesh0), m_dataset("/cameras/t", "nan"),
+                                             m_dataset("/cameras/K", "shape"), m_dataset("/box/min", "missing"),
+                                             m_dataset("/cameras/size", "dtype")])},
+               [out], tmp,
+               [(["--set", "mesh.cells=0"], ["mesh.cells", "minimum"], "param below range"),
+                (["--set", "mesh.nope=1"], ["unknown parameter"], "unknown param"),
+                (["--set", "mesh.cells=abc"], ["mesh.cells"], "param not a number")])
+        # refine: mesh + active flags
+        act = os.path.join(tmp, "active.h5")
+        with h5py.File(mesh0) as f:
+            nc = f["cells"].shape[0]
+        with h5py.File(act, "w") as f:
+            a = np.zeros(nc, np.uint8)
+            a[: nc // 10] = 1
+            f["cells/active"] = a
+        out = os.path.join(out_dir, "mesh_1.h5")
+        matrix("refine", lambda i: ["--mesh", i["mesh"], "--active", i["active"], "--out", out],
+               {"mesh": (mesh0, H5_BASIC + [m_schema(scene), m_dataset("/cells", "shape"),
+                                            m_dataset("/vertices", "nan"), m_dataset("/cells", "dtype")]),
+                "active": (act, [m_missing, m_truncated, m_dataset("/cells/active", "shape"),
+                                 m_dataset("/cells/active", "dtype")])},
+               [out], tmp)
+        # ingest: parameters out of range (the dataset matrix is in test_ingest.py)
+        data = os.path.join(tiny_run.paths(BIN)["synth_dir"], tiny_run.SCENE)
+        out = os.path.join(out_dir, "scene.h5")
+        matrix("ingest", lambda i: [i["dir"], "-o", out], {"dir": (data, [])}, [out], tmp,
+               [(["--set", "ingest.sil_threshold=1.5"], ["ingest.sil_threshold", "maximum"], "threshold above range"),
+                (["--set", "ingest.sil_dilate=-1"], ["ingest.sil_dilate", "minimum"], "dilate below range"),
+                (["--params", os.path.join(tmp, "nope.json")], ["nope.json"], "missing params file")])
+        # evaluate: PLY inputs
+        gt = os.path.join(data, "gt.ply")
+        out = os.path.join(out_dir, "eval.json")
+        matrix("evaluate", lambda i: ["--mesh", i["mesh"], "--gt", i["gt"], "--cameras", scene, "--out", out],
+               {"mesh": (gt, [m_missing, m_empty, m_truncated, m_text]), "gt": (gt, [m_missing, m_text])},
+               [out], tmp)
+        # later stages join the matrix as they exist (cut, label: scores.h5 / labels.h5)
+        if {"photoconsist", "label", "cut"} <= have:
+            full = tiny_run.build(BIN, SRC, "cut1")
+            L = max(int(p[5:-3]) for p in os.listdir(full) if p.startswith("mesh_") and p.endswith(".h5"))
+            meshL = os.path.join(full, f"mesh_{L}.h5")
+            scores, labels = os.path.join(full, "scores.h5"), os.path.join(full, "labels.h5")
+            out = os.path.join(out_dir, "cut.h5")
+            ply = os.path.join(out_dir, "cut.ply")
+            matrix("cut", lambda i: ["--mesh", i["mesh"], "--scores", i["scores"], "--labels", i["labels"],
+                                     "--out", out, "--ply", ply],
+                   {"mesh": (meshL, [m_missing, m_truncated, m_schema(scene)]),
+                    "scores": (scores, H5_BASIC + [m_schema(labels), m_dataset("/faces/omega", "nan"),
+                                                   m_dataset("/faces/omega", "shape")]),
+                    "labels": (labels, H5_BASIC + [m_schema(scores), m_dataset("/cells/label", "dtype"),
+                                                   m_dataset("/cells/label", "shape")])},
+                   [out, ply], tmp,
+                   [(["--set", "cut.sigma=0"], ["cut.sigma", "minimum"], "sigma out of range"),
+                    (["--set", "cut.lambda=-1"], ["cut.lambda", "minimum"], "lambda out of range")])
+            out = os.path.join(out_dir, "labels.h5")
+            matrix("label", lambda i: ["--scene", i["scene"], "--mesh", i["mesh"], "--scores", i["scores"], "--out", out],
+                   {"scene": (scene, [m_missing, m_truncated, m_schema(scores)]),
+                    "mesh": (meshL, [m_missing, m_schema(scene)]),
+                    "scores": (scores, H5_BASIC + [m_dataset("/points/position", "nan"),
+                                                   m_dataset("/points/cams", "dtype")])},
+                   [out], tmp,
+                   [(["--set", "label.low_percentile=101"], ["label.low_percentile", "maximum"], "percentile out of range")])
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    print(f"bad-input cases: {cases}")
+    print(f"{passed} passed, {len(failures)} failed")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
