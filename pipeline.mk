@@ -29,6 +29,8 @@ LEVELS    ?= 4
 # Optional JSON file of parameter overrides; a dataset's examples/params/<DATA>.json by default.
 PARAMS    ?= $(wildcard $(ROOT)/examples/params/$(DATA).json)
 QUIET     ?=
+# Every stage appends one JSON line (seconds, peak memory, summary) to this log.
+export TETMVS_LOG := $(RUN_DIR)/stages.jsonl
 STAGE_FLAGS := $(if $(QUIET),--quiet) $(if $(PARAMS),--params $(PARAMS))
 
 ifneq ($(filter synth-%,$(DATA)),)
@@ -138,6 +140,11 @@ SURFACES := $(foreach s,cut1 cut2 final,$(if $(filter $(s),$(MAKECMDGOALS) all $
 evaluate: $(foreach s,$(SURFACES),$(RUN_DIR)/eval_$(s).json)
 $(RUN_DIR)/eval_%.json: $(RUN_DIR)/%.ply $(RUN_DIR)/scene.h5 $(GT) $(STAMPS)/evaluate.args | programs
 	$(BIN)/evaluate --mesh $< --gt $(GT) --cameras $(RUN_DIR)/scene.h5 --out $@ --png $(RUN_DIR)/eval_$*.png $(call args,evaluate)
+
+# The report: a self-contained HTML page of whatever the run holds.
+report: $(RUN_DIR)/report/index.html
+$(RUN_DIR)/report/index.html: all | programs
+	$(BIN)/report $(RUN_DIR) --out $@ $(if $(QUIET),--quiet)
 
 clean:
 	rm -rf $(RUN_DIR)

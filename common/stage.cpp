@@ -3,6 +3,9 @@
 #include <omp.h>
 
 #include <chrono>
+#include <cstdlib>
+#include <ctime>
+#include <nlohmann/json.hpp>
 #include <cstdio>
 #include <opencv2/core.hpp>
 
@@ -51,6 +54,21 @@ int StageCli::run(int argc, char** argv, const std::function<void(StageContext&)
     std::fprintf(stderr, "[%s] done in %.2f s, peak memory %.0f MB%s%s\n", stage_.c_str(), secs,
                  peak_memory_bytes() / 1048576.0, ctx.summary.empty() ? "" : "; ",
                  ctx.summary.c_str());
+    // Run log for reports and benchmarks: one JSON line per stage run.
+    if (const char* log = std::getenv("TETMVS_LOG"); log && *log) {
+      nlohmann::json j = {{"stage", stage_}, {"seconds", secs},
+                          {"peak_memory_mb", peak_memory_bytes() / 1048576.0},
+                          {"threads", threads_ > 0 ? threads_ : omp_get_max_threads()},
+                          {"summary", ctx.summary}, {"time", static_cast<long long>(std::time(nullptr))}};
+      std::string args;
+      for (int i = 1; i < argc; ++i) args += (i > 1 ? " " : "") + std::string(argv[i]);
+      j["args"] = args;
+      j["cpu_seconds"] = static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+      if (FILE* f = std::fopen(log, "a")) {
+        std::fprintf(f, "%s\n", j.dump().c_str());
+        std::fclose(f);
+      }
+    }
     return 0;
   } catch (const Error& e) {
     std::fprintf(stderr, "%s: error: %s\n", stage_.c_str(), e.what());

@@ -1,0 +1,247 @@
+#include "common/report/report.h"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <regex>
+#include <sstream>
+
+#include "common/error.h"
+#include "common/fileio.h"
+#include "common/h5io.h"
+#include "common/log.h"
+#include "common/ply.h"
+#include "common/qpoints.h"
+#include "common/render/shaded.h"
+#include "common/scene.h"
+
+namespace tetmvs::report {
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+std::string base64(const std::string& in) {
+  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((in.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < in.size(); i += 3) {
+    const unsigned v = (std::uint8_t(in[i]) << 16) | (std::uint8_t(in[i + 1]) << 8) | std::uint8_t(in[i + 2]);
+    out += t[v >> 18];
+    out += t[(v >> 12) & 63];
+    out += t[(v >> 6) & 63];
+    out += t[v & 63];
+  }
+  if (i < in.size()) {
+    unsigned v = std::uint8_t(in[i]) << 16;
+    if (i + 1 < in.size()) v |= std::uint8_t(in[i + 1]) << 8;
+    out += t[v >> 18];
+    out += t[(v >> 12) & 63];
+    out += i + 1 < in.size() ? t[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+namespace {
+
+std::string esc(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '<') o += "&lt;";
+    else if (c == '>') o += "&gt;";
+    else if (c == '&') o += "&amp;";
+    else o += c;
+  }
+  return o;
+}
+
+std::string img_tag(const cv::Mat& rgb, const std::string& caption, int max_width = 1200) {
+  cv::Mat bgr, small = rgb;
+  if (rgb.cols > max_width) cv::resize(rgb, small, {max_width, rgb.rows * max_width / rgb.cols}, 0, 0, cv::INTER_AREA);
+  cv::cvtColor(small, bgr, cv::COLOR_RGB2BGR);
+  std::vector<uchar> buf;
+  cv::imencode(".png", bgr, buf);
+  return "<figure><img src=\"data:image/png;base64," + base64(std::string(buf.begin(), buf.end())) +
+         "\"><figcaption>" + esc(caption) + "</figcaption></figure>\n";
+}
+
+std::string img_file(const fs::path& p, const std::string& caption) {
+  if (!fs::exists(p)) return "";
+  cv::Mat m = cv::imread(p.string(), cv::IMREAD_COLOR);
+  if (m.empty()) return "";
+  cv::cvtColor(m, m, cv::COLOR_BGR2RGB);
+  return img_tag(m, caption);
+}
+
+std::string fmt(double v, int prec = 3) {
+  std::ostringstream os;
+  os.precision(prec);
+  os << v;
+  return os.str();
+}
+
+// Q projected into a view over the dimmed photo, coloured by score.
+cv::Mat points_picture(const Scene& s, const QPoints& q, int v) {
+  cv::Mat img = s.rgb[v] * 0.4;
+  for (std::int64_t p = 0; p < q.size(); ++p) {
+    const Eigen::Vector3d X = q.pos(p);
+    if (s.cams[v].depth(X) <= 0) continue;
+    const Eigen::Vector2d px = s.cams[v].project(X);
+    const int u = int(std::lround(px.x())), w = int(std::lround(px.y()));
+    if (u < 0 || w < 0 || u >= img.cols || w >= img.rows) continue;
+    const double t = std::clamp((q.score[p] - 0.5) / 0.5, 0.0, 1.0);
+    img.at<cv::Vec3b>(w, u) = cv::Vec3b(static_cast<uchar>(255 * t), static_cast<uchar>(255 * (1 - std::abs(2 * t - 1))),
+                                        static_cast<uchar>(255 * (1 - t)));
+  }
+  return img;
+}
+
+}  // namespace
+
+std::string build_report(const Options& o) {
+  const fs::path R = o.run_dir;
+  require(fs::is_directory(R), R.string(), ": run directory does not exist");
+  require(fs::exists(R / "scene.h5"), (R / "scene.h5").string(), ": missing; run the pipeline first");
+  std::ostringstream h;
+  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>" << esc(o.title) << "</title><style>"
+    << "body{font-family:sans-serif;margin:24px;max-width:1280px;color:#222}h1{font-size:22px}"
+    << "h2{font-size:18px;border-bottom:1px solid #ccc;margin-top:28px}table{border-collapse:collapse;font-size:13px}"
+    << "td,th{border:1px solid #ddd;padding:3px 8px;text-align:left}th{background:#f3f3f3}"
+    << "figure{margin:8px 0}img{max-width:100%;border:1px solid #ccc}figcaption{font-size:12px;color:#555}"
+    << ".num{text-align:right;font-variant-numeric:tabular-nums}.bad{color:#b00}</style></head><body>\n";
+  h << "<h1>" << esc(o.title) << "</h1>\n<p>Run directory: <code>" << esc(fs::absolute(R).string()) << "</code></p>\n";
+
+  const Scene scene = read_scene(R / "scene.h5", true);
+  // ---- metrics
+  h << "<h2>Results</h2>\n<table><tr><th>surface</th><th>faces</th><th>components</th><th>closed</th>"
+    << "<th>silhouette IoU (mean)</th><th>boundary error px (mean / 95%)</th><th>accuracy 90% (mm)</th>"
+    << "<th>completeness 1.25 mm</th></tr>\n";
+  std::vector<std::pair<std::string, TriMesh>> surfaces;
+  for (const char* name : {"cut1", "cut2", "final"}) {
+    const fs::path ply = R / (std::string(name) + ".ply");
+    if (!fs::exists(ply)) continue;
+    TriMesh m = read_ply(ply);
+    const auto ag = silhouette_agreement(m, scene);
+    h << "<tr><td>" << name << ".ply</td><td class=num>" << m.nf() << "</td>";
+    std::string comps = "-", closed = "-", acc = "-", comp = "-";
+    const fs::path ev = R / ("eval_" + std::string(name) + ".json");
+    if (fs::exists(ev)) {
+      try {
+        const json e = json::parse(read_file(ev));
+        if (e.contains("reconstruction") && e["reconstruction"].contains("check")) {
+          const auto& c = e["reconstruction"]["check"];
+          comps = c.value("num_components", json(0)).dump();
+          std::string genus;
+          if (c.contains("components"))
+            for (const auto& k : c["components"]) genus += (genus.empty() ? "" : ",") + k.value("genus", json(-1)).dump();
+          if (!genus.empty()) comps += " (genus " + genus + ")";
+          closed = c.value("closed", json(false)).dump();
+        }
+        if (e.contains("accuracy") && e["accuracy"]["value"].is_number())
+          acc = fmt(e["accuracy"]["value"].get<double>() * 1000, 3);
+        if (e.contains("completeness") && e["completeness"]["value"].is_number())
+          comp = fmt(e["completeness"]["value"].get<double>() * 100, 4) + " %";
+        if (e.contains("regions"))
+          for (const auto& r : e["regions"])
+            if (r.value("name", "") != "body" && r.contains("completeness") && r["completeness"]["value"].is_number())
+              comp += "; " + r.value("name", std::string("?")) + " " + fmt(r["completeness"]["value"].get<double>() * 100, 4) + " %";
+      } catch (const std::exception&) {
+      }
+    }
+    h << "<td>" << esc(comps) << "</td><td>" << esc(closed) << "</td><td class=num>" << fmt(ag.mean_iou, 4)
+      << "</td><td class=num>" << fmt(ag.mean_boundary_px, 3) << " / " << fmt(ag.p95_boundary_px, 3)
+      << "</td><td class=num>" << acc << "</td><td class=num>" << comp << "</td></tr>\n";
+    surfaces.emplace_back(name, std::move(m));
+  }
+  h << "</table>\n";
+  for (const char* name : {"cut1", "cut2", "final"}) {
+    const fs::path ev = R / ("eval_" + std::string(name) + ".json");
+    if (fs::exists(ev))
+      h << "<details><summary>eval_" << name << ".json</summary><pre>" << esc(json::parse(read_file(ev)).dump(1).substr(0, 6000))
+        << "</pre></details>\n";
+  }
+  // ---- surfaces
+  h << "<h2>Surfaces</h2>\n";
+  for (auto& [name, m] : surfaces) h << img_tag(render_sheet(m, scene), name + ".ply from four views (red = back faces)");
+  for (const char* name : {"cut1", "cut2", "final"}) h << img_file(R / ("eval_" + std::string(name) + ".png"), std::string("error of ") + name + " against the ground truth");
+  // ---- inputs
+  h << "<h2>Input views and silhouettes</h2>\n" << img_file(R / "ingest_contact.png", "images with their silhouettes (green)");
+  // ---- levels
+  h << "<h2>Adaptive mesh per level</h2>\n";
+  for (int i = 0; i < 16; ++i) h << img_file(R / ("mesh_" + std::to_string(i) + "_slice.png"), "mesh_" + std::to_string(i) + ": slice coloured by level");
+  // ---- Q
+  if (fs::exists(R / "scores.h5")) {
+    try {
+      auto sf = h5::File::open(R / "scores.h5", "tetmvs.scores");
+      const QPoints q = read_qpoints(sf, scene.size());
+      h << "<h2>Quasi-dense points Q (" << q.size() << ")</h2>\n";
+      std::vector<cv::Mat> tiles;
+      for (int v : spread_views(scene.size(), 2)) tiles.push_back(points_picture(scene, q, v));
+      cv::Mat row;
+      cv::hconcat(tiles, row);
+      h << img_tag(row, "Q projected into two views, coloured by score (blue low, red high)");
+    } catch (const Error& e) {
+      h << "<p class=bad>" << esc(e.what()) << "</p>";
+    }
+  }
+  h << "<h2>Labels</h2>\n" << img_file(R / "labels_slice.png", "labels: slice through the box centre");
+  if (fs::is_directory(R / "silfix")) {
+    h << "<h2>Silhouette fix</h2>\n";
+    std::vector<fs::path> pngs;
+    for (const auto& e : fs::directory_iterator(R / "silfix"))
+      if (e.path().extension() == ".png") pngs.push_back(e.path());
+    std::sort(pngs.begin(), pngs.end());
+    for (const auto& p : pngs) h << img_file(p, p.filename().string());
+  }
+  // ---- stages
+  h << "<h2>Stages: time and memory</h2>\n<table><tr><th>stage</th><th>wall s</th><th>cpu s</th><th>peak MB</th><th>summary</th></tr>\n";
+  std::map<std::string, json> last;  // stage + output -> last entry
+  std::vector<std::string> order;
+  if (fs::exists(R / "stages.jsonl")) {
+    std::istringstream is(read_file(R / "stages.jsonl"));
+    std::string line;
+    while (std::getline(is, line)) {
+      try {
+        const json j = json::parse(line);
+        std::string key = j.value("stage", "?");
+        const std::string args = j.value("args", "");
+        std::smatch m;
+        static const std::regex out_re(R"((--out|-o)\s+(\S+))");
+        if (std::regex_search(args, m, out_re)) key += " → " + fs::path(m[2].str()).filename().string();
+        if (!last.count(key)) order.push_back(key);
+        last[key] = j;
+      } catch (const std::exception&) {
+      }
+    }
+  }
+  double total = 0;
+  for (const auto& k : order) {
+    const json& j = last[k];
+    total += j.value("seconds", 0.0);
+    h << "<tr><td>" << esc(k) << "</td><td class=num>" << fmt(j.value("seconds", 0.0), 3) << "</td><td class=num>"
+      << fmt(j.value("cpu_seconds", 0.0), 3) << "</td><td class=num>" << fmt(j.value("peak_memory_mb", 0.0), 4)
+      << "</td><td>" << esc(j.value("summary", "")) << "</td></tr>\n";
+  }
+  h << "<tr><th>total</th><th class=num>" << fmt(total, 4) << "</th><th></th><th></th><th></th></tr></table>\n";
+  // ---- parameters
+  h << "<h2>Parameters</h2>\n<table><tr><th>file</th><th>parameters</th></tr>\n";
+  std::vector<fs::path> h5s;
+  for (const auto& e : fs::directory_iterator(R))
+    if (e.path().extension() == ".h5") h5s.push_back(e.path());
+  std::sort(h5s.begin(), h5s.end());
+  for (const auto& p : h5s) {
+    try {
+      auto f = h5::File::open(p);
+      std::string params = f.params().dump();
+      h << "<tr><td>" << esc(p.filename().string()) << "</td><td><code>" << esc(params) << "</code></td></tr>\n";
+    } catch (const Error&) {
+    }
+  }
+  h << "</table>\n</body></html>\n";
+  return h.str();
+}
+
+}  // namespace tetmvs::report
