@@ -81,20 +81,31 @@ std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s
 
 namespace {
 
-// Per-view depth maps of Q: the smallest depth of the points consistent in that view,
-// splatted over a disc of `radius_px` pixels (0 = no depth).
-std::vector<cv::Mat> q_depth_maps(const Scene& s, const QPoints& q, double cell) {
-  std::vector<cv::Mat> maps(s.size());
-  for (int v = 0; v < s.size(); ++v) maps[v] = cv::Mat::zeros(s.cams[v].height, s.cams[v].width, CV_32F);
+// Per-view depth maps of Q, splatted over a disc of about one finest cell: `front` holds
+// the smallest depth of the points photo-consistent in that view (the visible surface),
+// `back` the largest depth of the points facing away from the view (the far side of the
+// object, seen by other cameras). 0 = no point there.
+struct DepthMaps {
+  std::vector<cv::Mat> front, back;
+};
+
+DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell) {
+  DepthMaps d;
+  d.front.resize(s.size());
+  d.back.resize(s.size());
 #pragma omp parallel for schedule(dynamic, 1)
   for (int v = 0; v < s.size(); ++v) {
     const Camera& cam = s.cams[v];
-    cv::Mat& d = maps[v];
+    cv::Mat front = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+    cv::Mat back = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+    const Eigen::Vector3d C = cam.centre();
     for (std::int64_t p = 0; p < q.size(); ++p) {
-      bool in = false;
-      for (std::int64_t k = q.cam_offsets[p]; k < q.cam_offsets[p + 1] && !in; ++k) in = q.cams[k] == v;
-      if (!in) continue;
       const Eigen::Vector3d X = q.pos(p);
+      bool consistent = false;
+      for (std::int64_t k = q.cam_offsets[p]; k < q.cam_offsets[p + 1] && !consistent; ++k)
+        consistent = q.cams[k] == v;
+      const bool facing_away = q.nrm(p).dot(C - X) < 0;
+      if (!consistent && !facing_away) continue;
       const double z = cam.depth(X);
       if (z <= 0) continue;
       const Eigen::Vector2d px = cam.project(X);
@@ -102,14 +113,22 @@ std::vector<cv::Mat> q_depth_maps(const Scene& s, const QPoints& q, double cell)
       const int u0 = static_cast<int>(std::lround(px.x())), w0 = static_cast<int>(std::lround(px.y()));
       for (int w = w0 - r; w <= w0 + r; ++w)
         for (int u = u0 - r; u <= u0 + r; ++u) {
-          if (u < 0 || w < 0 || u >= d.cols || w >= d.rows || (u - u0) * (u - u0) + (w - w0) * (w - w0) > r * r)
+          if (u < 0 || w < 0 || u >= cam.width || w >= cam.height || (u - u0) * (u - u0) + (w - w0) * (w - w0) > r * r)
             continue;
-          float& cur = d.at<float>(w, u);
-          if (cur == 0 || z < cur) cur = static_cast<float>(z);
+          if (consistent) {
+            float& cur = front.at<float>(w, u);
+            if (cur == 0 || z < cur) cur = static_cast<float>(z);
+          }
+          if (facing_away) {
+            float& cur = back.at<float>(w, u);
+            if (z > cur) cur = static_cast<float>(z);
+          }
         }
     }
+    d.front[v] = front;
+    d.back[v] = back;
   }
-  return maps;
+  return d;
 }
 
 double percentile(std::vector<std::int32_t> v, double pct) {
@@ -161,7 +180,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, cons
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     const std::int32_t c = candidates[i];
     const Eigen::Vector3d X = m.cell_centroid(c);
-    int hidden = 0, free_space = 0;
+    int sandwiched = 0, free_space = 0, beyond = 0;
     for (int v = 0; v < s.size(); ++v) {
       const Camera& cam = s.cams[v];
       const double z = cam.depth(X);
@@ -169,13 +188,24 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, cons
       const Eigen::Vector2d p = cam.project(X);
       const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
       if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
-      const float d = depth[v].at<float>(w, u);
-      if (d == 0) continue;
-      if (z > d + margin) ++hidden;
-      else if (z < d - margin) ++free_space;
+      const float df = depth.front[v].at<float>(w, u), db = depth.back[v].at<float>(w, u);
+      if (df != 0 && z < df - margin) ++free_space;
+      if (db != 0 && z > db + margin) ++beyond;
+      if (df != 0 && db != 0 && z > df + margin && z < db - margin) ++sandwiched;
+    }
+    // interior cells must lie wholly inside every silhouette (corners; outside an image is fine)
+    bool in_hull = true;
+    for (int k = 0; k < 4 && in_hull; ++k) {
+      const Eigen::Vector3d V = m.vertex(m.cell_v[c][k]);
+      for (int v = 0; v < s.size() && in_hull; ++v) {
+        if (!s.has_silhouette(v) || s.cams[v].depth(V) <= 0) continue;
+        const Eigen::Vector2d p = s.cams[v].project(V);
+        in_hull = s.in_silhouette(v, p.x(), p.y(), true);
+      }
     }
     const int votes = r.votes[c];
-    if (votes <= r.low_votes && free_space == 0 && hidden >= o.min_occluding_views) decided[c] = 1;
+    if (in_hull && votes <= r.low_votes && free_space == 0 && beyond == 0 && sandwiched >= o.min_occluding_views)
+      decided[c] = 1;
     else if (votes > r.high_votes && votes >= o.min_exterior_votes && free_space > 0) decided[c] = -1;
   }
   for (std::int32_t c : candidates) {

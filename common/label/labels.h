@@ -8,11 +8,14 @@
 //            inactive cells whose visibility votes exceed the upper percentile, that are
 //            seen as free space (in front of Q by a margin) in some view.
 //  interior  inactive cells inside the hull whose votes are at most the lower percentile
-//            AND that are hidden behind Q in every view where Q gives a depth there
-//            (at least `min_occluding_views` such views, none showing it as free space).
-//            The second condition keeps unreachable cavities (a cup's inside, which no ray
-//            crosses) from becoming interior: some camera sees their air in front of the
-//            cavity walls' points.
+//            AND that lie between Q's near and far sides: in at least `min_occluding_views`
+//            views the cell is behind the points Q visible in that view and in front of the
+//            points of Q facing away from it (the far side, seen by other cameras); in no view
+//            is it in front of the visible points (free space) or beyond the far side.
+//            The free-space condition keeps unreachable cavities (a cup's inside, which no
+//            ray crosses) from becoming interior: some camera sees their air in front of the
+//            cavity walls' points. The far-side condition keeps unseen space behind or below
+//            the object (which ring cameras never see) from becoming interior.
 // Votes: every point of Q casts a ray to each camera it is photo-consistent in, starting
 // `vote_offset` cell sizes in front of the point; every cell the ray crosses gets a vote.
 // "Inactive" cells are the cells coarser than the finest level (away from the surface).
