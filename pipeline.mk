@@ -133,7 +133,7 @@ $(RUN_DIR)/cut2.ply: $(FINAL_MESH) $(RUN_DIR)/scores.h5 $(RUN_DIR)/silfix.h5 $(S
 
 final: $(RUN_DIR)/final.ply
 $(RUN_DIR)/final.ply: $(RUN_DIR)/scene.h5 $(RUN_DIR)/cut2.ply $(STAMPS)/deform.args | programs
-	$(BIN)/deform --scene $(RUN_DIR)/scene.h5 --mesh $(RUN_DIR)/cut2.ply --out $@ --stats $(RUN_DIR)/deform.h5 $(call args,deform)
+	$(BIN)/deform --scene $(RUN_DIR)/scene.h5 --mesh $(RUN_DIR)/cut2.ply --out $@ --stats $(RUN_DIR)/deform.h5 --png $(RUN_DIR)/final_views.png $(call args,deform)
 
 # --- evaluation against ground truth (synthetic scenes) ------------------------------------
 SURFACES := $(foreach s,cut1 cut2 final,$(if $(filter $(s),$(MAKECMDGOALS) all $(if $(call has,deform),final cut2 cut1,$(if $(call has,silhouette-fix),cut2 cut1,cut1))),$(s)))

@@ -1,0 +1,324 @@
+#include "common/deform/deform.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "common/deform/forces.h"
+#include "common/deform/intersect.h"
+#include "common/deform/remesh.h"
+#include "common/deform/topology.h"
+#include "common/error.h"
+#include "common/h5io.h"
+#include "common/log.h"
+#include "common/photo/views.h"
+#include "common/trimesh/check.h"
+
+namespace tetmvs::deform {
+
+namespace {
+
+double median(std::vector<double> x) {
+  if (x.empty()) return 0;
+  const size_t k = x.size() / 2;
+  std::nth_element(x.begin(), x.begin() + k, x.end());
+  return x[k];
+}
+
+std::vector<ViewRaster> rasterize_all(const TriMesh& tm, const Scene& scene) {
+  std::vector<ViewRaster> r(scene.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int i = 0; i < scene.size(); ++i) r[i] = rasterize_view(tm, scene.cams[i], scene.sil[i]);
+  return r;
+}
+
+double mean_iou(const std::vector<ViewRaster>& r, const Scene& scene) {
+  double sum = 0;
+  int n = 0;
+  for (int i = 0; i < scene.size(); ++i)
+    if (scene.has_silhouette(i)) {
+      sum += r[i].either > 0 ? static_cast<double>(r[i].agree) / r[i].either : 1.0;
+      ++n;
+    }
+  return n > 0 ? sum / n : -1.0;
+}
+
+bool contains(const std::vector<std::pair<int, int>>& sorted, const std::pair<int, int>& p) {
+  return std::binary_search(sorted.begin(), sorted.end(), p);
+}
+
+void check_input(const TriMesh& m) {
+  m.validate("deform input mesh");
+  require(!m.F.empty(), "deform input mesh: no triangles");
+  const MeshCheck c = check_mesh(m);
+  require(c.closed && c.edge_manifold, "deform input mesh: must be closed and edge-manifold (", c.boundary_edges,
+          " boundary edges, ", c.nonmanifold_edges, " non-manifold edges)");
+  require(c.oriented, "deform input mesh: ", c.misoriented_edges, " edges are used twice in the same direction");
+  for (const auto& comp : c.components)
+    require(comp.signed_volume > 0, "deform input mesh: a component of ", comp.faces,
+            " faces has negative volume (inward-facing triangles)");
+}
+
+// Drops faces with a repeated vertex (none expected) and unreferenced vertices.
+void compact(RemeshMesh& m) {
+  std::vector<Eigen::Vector3i> F;
+  for (const auto& t : m.F)
+    if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) F.push_back(t);
+  std::vector<int> id(m.V.size(), -1);
+  for (const auto& t : F)
+    for (int k = 0; k < 3; ++k) id[t[k]] = 0;
+  std::vector<Eigen::Vector3d> V;
+  std::vector<double> fp;
+  for (size_t v = 0; v < m.V.size(); ++v)
+    if (id[v] == 0) {
+      id[v] = static_cast<int>(V.size());
+      V.push_back(m.V[v]);
+      fp.push_back(m.fp[v]);
+    }
+  for (auto& t : F)
+    for (int k = 0; k < 3; ++k) t[k] = id[t[k]];
+  m.V.swap(V);
+  m.F.swap(F);
+  m.fp.swap(fp);
+}
+
+}  // namespace
+
+Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt, const photo::Options& popt) {
+  opt.check();
+  popt.check();
+  check_input(start);
+  require(scene.size() > 0, "deform: the scene has no cameras");
+  require(static_cast<int>(scene.grey.size()) == scene.size(), "deform: the scene's grey images are not loaded");
+  const int nc = scene.size();
+
+  std::vector<double> cam_fp;
+  for (const auto& c : scene.cams) cam_fp.push_back((scene.box.center() - c.centre()).norm() / c.focal());
+  const double fallback_fp = median(cam_fp);
+
+  const photo::Views views(scene.cams, scene.grey, popt.use_silhouettes ? scene.sil : std::vector<cv::Mat>{});
+  std::vector<cv::Mat> sd(nc);
+  for (int i = 0; i < nc; ++i)
+    if (scene.has_silhouette(i)) sd[i] = signed_distance(scene.sil[i]);
+
+  RemeshMesh M;
+  M.V = start.V;
+  M.F = start.F;
+  M.fp = vertex_footprints(M.V, scene.cams, fallback_fp);
+
+  Result res;
+  res.start_intersections = static_cast<std::int64_t>(self_intersections(M.V, M.F).size());
+  info("deform: ", M.V.size(), " vertices, ", M.F.size(), " faces, ", res.start_intersections,
+       " intersecting triangle pairs at the start, ", scene.num_silhouettes(), " of ", nc, " views with silhouettes");
+
+  for (int it = 0; it < opt.iterations; ++it) {
+    const auto t0 = std::chrono::steady_clock::now();
+    IterationStats st;
+    st.iteration = it;
+    const int nv = static_cast<int>(M.V.size());
+    M.fp = vertex_footprints(M.V, scene.cams, fallback_fp);
+    const std::vector<Eigen::Vector3d> N = vertex_normals(M.V, M.F);
+    const Topology topo = build_topology(M.F, nv);
+    TriMesh tm;
+    tm.V = M.V;
+    tm.F = M.F;
+    const std::vector<ViewRaster> rasters = rasterize_all(tm, scene);
+    st.silhouette_iou = mean_iou(rasters, scene);
+    if (it == 0) res.start_iou = st.silhouette_iou;
+    const std::vector<std::uint8_t> vis = vertex_visibility(M.V, scene.cams, rasters, opt.visibility_tol_px);
+
+    const std::vector<Eigen::Vector3d> fs = smooth_force(M.V, topo, N, opt);
+    std::vector<int> rim;
+    const std::vector<Eigen::Vector3d> fsil = silhouette_force(M.V, N, M.fp, scene.cams, sd, rasters, vis, opt, rim);
+    std::vector<TextureProbe> probes;
+    std::vector<Eigen::Vector3d> ftex;
+    if (it >= opt.texture_start && opt.w_texture > 0)
+      ftex = texture_force(M.V, N, M.fp, views, opt.occlusion ? vis : std::vector<std::uint8_t>{}, opt, popt, probes);
+
+    std::vector<Eigen::Vector3d> move(nv);
+    for (int v = 0; v < nv; ++v) {
+      Eigen::Vector3d d = fs[v] + opt.w_silhouette * fsil[v];
+      if (!ftex.empty()) d += opt.w_texture * ftex[v];
+      const double lim = opt.max_move_px * M.fp[v];
+      const double l = d.norm();
+      if (l > lim) d *= lim / l;
+      move[v] = d;
+    }
+
+    // Apply, halving the steps of vertices of new intersections.
+    const auto before = self_intersections(M.V, M.F);
+    std::vector<double> scale(nv, 1.0);
+    std::vector<Eigen::Vector3d> V1(nv);
+    for (int v = 0; v < nv; ++v) V1[v] = M.V[v] + move[v];
+    std::vector<char> reduced(nv, 0);
+    std::int64_t inter_after = 0;
+    for (int attempt = 0;; ++attempt) {
+      const auto pairs = self_intersections(V1, M.F);
+      std::vector<std::pair<int, int>> fresh;
+      for (const auto& p : pairs)
+        if (!contains(before, p)) fresh.push_back(p);
+      inter_after = static_cast<std::int64_t>(pairs.size());
+      if (fresh.empty() || attempt > opt.intersection_retries) break;
+      for (const auto& p : fresh)
+        for (int f : {p.first, p.second})
+          for (int k = 0; k < 3; ++k) {
+            const int v = M.F[f][k];
+            if (reduced[v] == attempt + 1) continue;
+            reduced[v] = static_cast<char>(attempt + 1);
+            scale[v] = attempt == opt.intersection_retries ? 0.0 : 0.5 * scale[v];
+            V1[v] = M.V[v] + scale[v] * move[v];
+          }
+    }
+    double sum_move = 0, sum_px = 0, max_px = 0;
+    for (int v = 0; v < nv; ++v) {
+      const double l = (V1[v] - M.V[v]).norm();
+      sum_move += l;
+      sum_px += l / M.fp[v];
+      max_px = std::max(max_px, l / M.fp[v]);
+      st.reduced_vertices += reduced[v] != 0;
+      st.rim_vertices += rim[v] > 0;
+    }
+    st.mean_move = nv ? sum_move / nv : 0;
+    st.mean_move_px = nv ? sum_px / nv : 0;
+    st.max_move_px = max_px;
+    st.intersections = inter_after;
+    if (!probes.empty()) {
+      double ssum = 0, osum = 0;
+      std::int64_t ns = 0, na = 0;
+      for (const auto& p : probes) {
+        if (p.best_score > -1.f) {
+          ssum += p.best_score;
+          ++ns;
+        }
+        if (p.applied) {
+          osum += std::abs(p.offset_px);
+          ++na;
+        }
+      }
+      st.mean_texture_score = ns ? ssum / ns : -1;
+      st.texture_applied = nv ? static_cast<double>(na) / nv : 0;
+      st.mean_texture_offset_px = na ? osum / na : 0;
+    }
+    M.V.swap(V1);
+
+    // Remesh.
+    M.fp = vertex_footprints(M.V, scene.cams, fallback_fp);
+    st.splits = split_long_edges(M, opt.max_edge_px);
+    st.collapses = collapse_short_edges(M, opt.min_edge_px, opt.needle_ratio, opt.max_edge_px);
+    st.flips = flip_edges(M, opt.flip_dihedral_deg);
+    compact(M);
+    st.vertices = static_cast<std::int64_t>(M.V.size());
+    st.faces = static_cast<std::int64_t>(M.F.size());
+    st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    info("deform: iteration ", it, ": move ", st.mean_move_px, " px (max ", st.max_move_px, "), texture ",
+         st.mean_texture_score, " (", 100 * st.texture_applied, "% moved, |offset| ", st.mean_texture_offset_px,
+         " px), rim ", st.rim_vertices, ", IoU ", st.silhouette_iou, ", ", st.vertices, " v ", st.faces, " f, +",
+         st.splits, " -", st.collapses, " ~", st.flips, ", reduced ", st.reduced_vertices, ", intersections ",
+         st.intersections, ", ", st.seconds, " s");
+    res.iterations.push_back(st);
+  }
+
+  res.mesh.V = M.V;
+  res.mesh.F = M.F;
+  res.final_intersections = static_cast<std::int64_t>(self_intersections(M.V, M.F).size());
+  {
+    const auto rasters = rasterize_all(res.mesh, scene);
+    res.final_iou = mean_iou(rasters, scene);
+  }
+  compute_vertex_normals(res.mesh);
+  sample_vertex_colours(res.mesh, scene, opt.visibility_tol_px);
+  res.footprint = median(vertex_footprints(M.V, scene.cams, fallback_fp));
+  return res;
+}
+
+void sample_vertex_colours(TriMesh& m, const Scene& scene, double tol_px) {
+  require(m.N.size() == m.V.size(), "sample_vertex_colours: the mesh has no vertex normals");
+  const int nv = static_cast<int>(m.nv()), nc = scene.size();
+  const auto rasters = rasterize_all(m, scene);
+  const auto vis = vertex_visibility(m.V, scene.cams, rasters, tol_px);
+  m.C.assign(nv, {128, 128, 128});
+  if (static_cast<int>(scene.rgb.size()) != nc) return;
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < nv; ++v) {
+    const Eigen::Vector3d n = m.N[v].cast<double>();
+    int best = -1;
+    double bc = 0;
+    for (int i = 0; i < nc; ++i) {
+      if (!vis[static_cast<size_t>(v) * nc + i] || scene.rgb[i].empty()) continue;
+      const double c = n.dot((scene.cams[i].centre() - m.V[v]).normalized());
+      if (c > bc) bc = c, best = i;
+    }
+    if (best < 0) continue;
+    const Eigen::Vector2d p = scene.cams[best].project(m.V[v]);
+    const cv::Mat& img = scene.rgb[best];
+    const double u = std::clamp(p.x(), 0.0, img.cols - 1.0), w = std::clamp(p.y(), 0.0, img.rows - 1.0);
+    const int x0 = std::min(static_cast<int>(u), img.cols - 2 < 0 ? 0 : img.cols - 2);
+    const int y0 = std::min(static_cast<int>(w), img.rows - 2 < 0 ? 0 : img.rows - 2);
+    const int x1 = std::min(x0 + 1, img.cols - 1), y1 = std::min(y0 + 1, img.rows - 1);
+    const double fx = u - x0, fy = w - y0;
+    for (int ch = 0; ch < 3; ++ch) {
+      const double val = (1 - fx) * (1 - fy) * img.at<cv::Vec3b>(y0, x0)[ch] + fx * (1 - fy) * img.at<cv::Vec3b>(y0, x1)[ch] +
+                         (1 - fx) * fy * img.at<cv::Vec3b>(y1, x0)[ch] + fx * fy * img.at<cv::Vec3b>(y1, x1)[ch];
+      m.C[v][ch] = static_cast<std::uint8_t>(std::clamp(std::lround(val), 0L, 255L));
+    }
+  }
+}
+
+void write_stats(const std::filesystem::path& file, const Result& r, const std::string& stage,
+                 const nlohmann::json& params, const std::vector<std::filesystem::path>& inputs) {
+  auto f = h5::File::create(file);
+  f.write_header(kDeformSchema, kDeformVersion, stage, params, inputs);
+  const size_t n = r.iterations.size();
+  std::vector<std::int32_t> iter(n);
+  std::vector<std::int64_t> nvert(n), nface(n), rim(n), splits(n), collapses(n), flips(n), reduced(n), inter(n);
+  std::vector<double> move(n), move_px(n), max_px(n), score(n), applied(n), offset(n), iou(n), secs(n);
+  for (size_t i = 0; i < n; ++i) {
+    const auto& s = r.iterations[i];
+    iter[i] = s.iteration;
+    nvert[i] = s.vertices;
+    nface[i] = s.faces;
+    rim[i] = s.rim_vertices;
+    splits[i] = s.splits;
+    collapses[i] = s.collapses;
+    flips[i] = s.flips;
+    reduced[i] = s.reduced_vertices;
+    inter[i] = s.intersections;
+    move[i] = s.mean_move;
+    move_px[i] = s.mean_move_px;
+    max_px[i] = s.max_move_px;
+    score[i] = s.mean_texture_score;
+    applied[i] = s.texture_applied;
+    offset[i] = s.mean_texture_offset_px;
+    iou[i] = s.silhouette_iou;
+    secs[i] = s.seconds;
+  }
+  f.create_group("/iterations");
+  f.write("/iterations/iteration", iter);
+  f.write("/iterations/vertices", nvert);
+  f.write("/iterations/faces", nface);
+  f.write("/iterations/mean_move", move);
+  f.write("/iterations/mean_move_px", move_px);
+  f.write("/iterations/max_move_px", max_px);
+  f.write("/iterations/mean_texture_score", score);
+  f.write("/iterations/texture_applied", applied);
+  f.write("/iterations/mean_texture_offset_px", offset);
+  f.write("/iterations/rim_vertices", rim);
+  f.write("/iterations/silhouette_iou", iou);
+  f.write("/iterations/splits", splits);
+  f.write("/iterations/collapses", collapses);
+  f.write("/iterations/flips", flips);
+  f.write("/iterations/reduced_vertices", reduced);
+  f.write("/iterations/intersections", inter);
+  f.write("/iterations/seconds", secs);
+  f.set_attr("/", "start_intersections", r.start_intersections);
+  f.set_attr("/", "final_intersections", r.final_intersections);
+  f.set_attr("/", "start_iou", r.start_iou);
+  f.set_attr("/", "final_iou", r.final_iou);
+  f.set_attr("/", "final_vertices", static_cast<std::int64_t>(r.mesh.nv()));
+  f.set_attr("/", "final_faces", static_cast<std::int64_t>(r.mesh.nf()));
+  f.set_attr("/", "footprint", r.footprint);
+  f.commit();
+}
+
+}  // namespace tetmvs::deform

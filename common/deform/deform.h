@@ -1,0 +1,66 @@
+// deform (paper section 3.3, brief step 7): the cut surface S2 (closed, outward,
+// edge-manifold, faceted at the tetrahedral cells' resolution) refined into the final
+// mesh H by moving its vertices under three forces (forces.h: non-shrinking smoothness,
+// silhouette, texture along the normal), remeshing as it goes (remesh.h: red-green
+// splits of edges longer than max_edge_px in their finest view, collapses, flips), and
+// never creating self-intersections (intersect.h: the vertices of a new intersection get
+// their step halved, then reverted). Output: the mesh with vertex normals and colours
+// sampled from each vertex's best visible view; statistics per iteration (schema
+// tetmvs.deform, schemas/deform.md).
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/deform/options.h"
+#include "common/photo/options.h"
+#include "common/scene.h"
+#include "common/trimesh/trimesh.h"
+
+namespace tetmvs::deform {
+
+struct IterationStats {
+  int iteration = 0;
+  std::int64_t vertices = 0, faces = 0;  // after this iteration's remeshing
+  double mean_move = 0;       // mean |applied displacement| over vertices (world units)
+  double mean_move_px = 0;    // ... in pixels of each vertex's finest view
+  double max_move_px = 0;
+  double mean_texture_score = -1;  // mean best score along the normal over vertices that have one (-1: none)
+  double texture_applied = 0;      // fraction of vertices moved by the texture force
+  double mean_texture_offset_px = 0;  // mean |peak offset| of those vertices (pixels)
+  std::int64_t rim_vertices = 0;   // vertices on a silhouette rim in at least one view
+  double silhouette_iou = -1;      // mean IoU of the mesh's silhouettes before the move (-1: no silhouettes)
+  std::int64_t splits = 0, collapses = 0, flips = 0;
+  std::int64_t reduced_vertices = 0;  // vertices whose step was reduced to avoid intersections
+  std::int64_t intersections = 0;     // intersecting triangle pairs after the iteration
+  double seconds = 0;
+};
+
+struct Result {
+  TriMesh mesh;  // V, F, N (unit), C (RGB)
+  std::vector<IterationStats> iterations;
+  std::int64_t start_intersections = 0, final_intersections = 0;
+  double start_iou = -1, final_iou = -1;  // mean silhouette IoU (-1: no silhouettes)
+  double footprint = 0;                   // median vertex pixel footprint of the final mesh (world units)
+};
+
+// scene: cameras, rgb and grey (load_grey() done), silhouettes optional per view.
+// start: closed, edge-manifold, outward-oriented (Error otherwise).
+Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt, const photo::Options& popt);
+
+// Per-vertex colours of m from each vertex's best view: the largest cos(normal, direction
+// to the camera) among the views in which it is visible; grey where none sees it.
+// m.N must be set.
+void sample_vertex_colours(TriMesh& m, const Scene& scene, double visibility_tol_px);
+
+// Writes the statistics file (schemas/deform.md) and commits it.
+void write_stats(const std::filesystem::path& file, const Result& r, const std::string& stage,
+                 const nlohmann::json& params, const std::vector<std::filesystem::path>& inputs);
+
+inline constexpr const char* kDeformSchema = "tetmvs.deform";
+inline constexpr int kDeformVersion = 1;
+
+}  // namespace tetmvs::deform

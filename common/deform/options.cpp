@@ -1,0 +1,78 @@
+#include "common/deform/options.h"
+
+#include <cmath>
+
+#include "common/error.h"
+#include "common/params.h"
+
+namespace tetmvs::deform {
+
+void Options::check() const {
+  const auto finite_in = [](double x, double lo, double hi) { return std::isfinite(x) && x >= lo && x <= hi; };
+  require(iterations >= 0 && iterations <= 100000, "deform options: iterations = ", iterations, " must be in [0, 100000]");
+  require(finite_in(smooth_tangent, 0, 1), "deform options: smooth_tangent = ", smooth_tangent, " must be in [0, 1]");
+  require(finite_in(smooth_normal, 0, 1), "deform options: smooth_normal = ", smooth_normal, " must be in [0, 1]");
+  require(finite_in(smooth_bilaplacian, 0, 0.49), "deform options: smooth_bilaplacian = ", smooth_bilaplacian,
+          " must be in [0, 0.49] (explicit bi-Laplacian steps above 0.5 diverge)");
+  require(finite_in(w_silhouette, 0, 1), "deform options: w_silhouette = ", w_silhouette, " must be in [0, 1]");
+  require(finite_in(w_texture, 0, 1), "deform options: w_texture = ", w_texture, " must be in [0, 1]");
+  require(finite_in(rim_cos, 0, 1), "deform options: rim_cos = ", rim_cos, " must be in [0, 1]");
+  require(finite_in(sil_band_px, 0, 100), "deform options: sil_band_px = ", sil_band_px, " must be in [0, 100]");
+  require(finite_in(sil_max_px, 0, 1000), "deform options: sil_max_px = ", sil_max_px, " must be in [0, 1000]");
+  require(finite_in(visibility_tol_px, 0, 1e6), "deform options: visibility_tol_px = ", visibility_tol_px, " must be >= 0");
+  require(finite_in(texture_step_px, 1e-3, 100), "deform options: texture_step_px = ", texture_step_px,
+          " must be in [0.001, 100]");
+  require(finite_in(texture_range_px, texture_step_px, 100), "deform options: texture_range_px = ", texture_range_px,
+          " must be in [texture_step_px, 100]");
+  require(texture_range_px / texture_step_px <= 200, "deform options: texture_range_px / texture_step_px = ",
+          texture_range_px / texture_step_px, " offsets per side; at most 200");
+  require(finite_in(texture_min_score, -1, 1), "deform options: texture_min_score = ", texture_min_score, " must be in [-1, 1]");
+  require(finite_in(texture_min_contrast, 0, 2), "deform options: texture_min_contrast = ", texture_min_contrast,
+          " must be in [0, 2]");
+  require(finite_in(texture_cone_deg, 1, 89), "deform options: texture_cone_deg = ", texture_cone_deg,
+          " must be in [1, 89] degrees");
+  require(finite_in(texture_min_parallax, 0.01, 1), "deform options: texture_min_parallax = ", texture_min_parallax,
+          " must be in [0.01, 1]");
+  require(texture_start >= 0, "deform options: texture_start = ", texture_start, " must be >= 0");
+  require(finite_in(max_move_px, 1e-6, 100), "deform options: max_move_px = ", max_move_px, " must be in (0, 100]");
+  require(finite_in(min_edge_px, 0, 1e6) && finite_in(max_edge_px, 0, 1e6) && max_edge_px > 2 * min_edge_px,
+          "deform options: max_edge_px = ", max_edge_px, " must exceed 2 * min_edge_px = ", 2 * min_edge_px,
+          " (a split edge must not be collapsed again)");
+  require(finite_in(needle_ratio, 0, 0.5), "deform options: needle_ratio = ", needle_ratio, " must be in [0, 0.5]");
+  require(finite_in(flip_dihedral_deg, 0, 90), "deform options: flip_dihedral_deg = ", flip_dihedral_deg,
+          " must be in [0, 90]");
+  require(intersection_retries >= 0 && intersection_retries <= 20, "deform options: intersection_retries = ",
+          intersection_retries, " must be in [0, 20]");
+}
+
+Options Options::from_params(const Params& p) {
+  Options o;
+  o.iterations = p.i("deform.iterations");
+  o.smooth_tangent = p.d("deform.smooth_tangent");
+  o.smooth_normal = p.d("deform.smooth_normal");
+  o.smooth_bilaplacian = p.d("deform.smooth_bilaplacian");
+  o.w_silhouette = p.d("deform.w_silhouette");
+  o.rim_cos = p.d("deform.rim_cos");
+  o.sil_band_px = p.d("deform.sil_band_px");
+  o.sil_max_px = p.d("deform.sil_max_px");
+  o.visibility_tol_px = p.d("deform.visibility_tol_px");
+  o.w_texture = p.d("deform.w_texture");
+  o.texture_range_px = p.d("deform.texture_range_px");
+  o.texture_step_px = p.d("deform.texture_step_px");
+  o.texture_min_score = p.d("deform.texture_min_score");
+  o.texture_min_contrast = p.d("deform.texture_min_contrast");
+  o.texture_cone_deg = p.d("deform.texture_cone_deg");
+  o.texture_min_parallax = p.d("deform.texture_min_parallax");
+  o.texture_start = p.i("deform.texture_start");
+  o.occlusion = p.b("deform.occlusion");
+  o.max_move_px = p.d("deform.max_move_px");
+  o.max_edge_px = p.d("deform.max_edge_px");
+  o.min_edge_px = p.d("deform.min_edge_px");
+  o.needle_ratio = p.d("deform.needle_ratio");
+  o.flip_dihedral_deg = p.d("deform.flip_dihedral_deg");
+  o.intersection_retries = p.i("deform.intersection_retries");
+  o.check();
+  return o;
+}
+
+}  // namespace tetmvs::deform

@@ -1,0 +1,242 @@
+#include "common/deform/remesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_set>
+
+#include "common/deform/topology.h"
+
+namespace tetmvs::deform {
+
+double edge_px(const RemeshMesh& m, int a, int b) {
+  return (m.V[a] - m.V[b]).norm() / (0.5 * (m.fp[a] + m.fp[b]));
+}
+
+namespace {
+Eigen::Vector3d tri_cross(const std::vector<Eigen::Vector3d>& V, int a, int b, int c) {
+  return (V[b] - V[a]).cross(V[c] - V[a]);
+}
+// Opposite corner of edge (a, b) in face t.
+int opposite(const Eigen::Vector3i& t, int a, int b) {
+  for (int k = 0; k < 3; ++k)
+    if (t[k] != a && t[k] != b) return t[k];
+  return -1;
+}
+}  // namespace
+
+std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
+  const Topology topo = build_topology(m.F, static_cast<int>(m.V.size()));
+  const int ne = topo.num_edges(), nf = static_cast<int>(m.F.size());
+  std::vector<char> mark(ne, 0);
+  for (int e = 0; e < ne; ++e) mark[e] = edge_px(m, topo.edge_v[e][0], topo.edge_v[e][1]) > max_px;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int f = 0; f < nf; ++f) {
+      const auto& fe = topo.face_e[f];
+      const int c = mark[fe[0]] + mark[fe[1]] + mark[fe[2]];
+      if (c == 2) {
+        for (int k = 0; k < 3; ++k) mark[fe[k]] = 1;
+        changed = true;
+      }
+    }
+  }
+  std::vector<int> mid(ne, -1);
+  std::int64_t count = 0;
+  for (int e = 0; e < ne; ++e)
+    if (mark[e]) {
+      const int a = topo.edge_v[e][0], b = topo.edge_v[e][1];
+      mid[e] = static_cast<int>(m.V.size());
+      m.V.push_back(0.5 * (m.V[a] + m.V[b]));
+      m.fp.push_back(0.5 * (m.fp[a] + m.fp[b]));
+      ++count;
+    }
+  if (count == 0) return 0;
+  std::vector<Eigen::Vector3i> F;
+  F.reserve(m.F.size() + 3 * count);
+  for (int f = 0; f < nf; ++f) {
+    const auto& t = m.F[f];
+    const auto& fe = topo.face_e[f];
+    const int c = mark[fe[0]] + mark[fe[1]] + mark[fe[2]];
+    if (c == 0) {
+      F.push_back(t);
+    } else if (c == 1) {
+      int k = 0;
+      while (!mark[fe[k]]) ++k;
+      const int a = t[k], b = t[(k + 1) % 3], d = t[(k + 2) % 3], mm = mid[fe[k]];
+      F.emplace_back(a, mm, d);
+      F.emplace_back(mm, b, d);
+    } else {
+      const int m0 = mid[fe[0]], m1 = mid[fe[1]], m2 = mid[fe[2]];
+      F.emplace_back(t[0], m0, m2);
+      F.emplace_back(m0, t[1], m1);
+      F.emplace_back(m2, m1, t[2]);
+      F.emplace_back(m0, m1, m2);
+    }
+  }
+  m.F.swap(F);
+  return count;
+}
+
+std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ratio, double max_px) {
+  const int nv = static_cast<int>(m.V.size()), nf = static_cast<int>(m.F.size());
+  const Topology topo = build_topology(m.F, nv);
+  const int ne = topo.num_edges();
+  std::vector<double> len(ne);
+  for (int e = 0; e < ne; ++e) len[e] = edge_px(m, topo.edge_v[e][0], topo.edge_v[e][1]);
+  std::vector<char> cand(ne, 0);
+  for (int e = 0; e < ne; ++e) cand[e] = len[e] < min_px;
+  for (int f = 0; f < nf; ++f) {
+    const auto& fe = topo.face_e[f];
+    int s = 0, l = 0;
+    for (int k = 1; k < 3; ++k) {
+      if (len[fe[k]] < len[fe[s]]) s = k;
+      if (len[fe[k]] > len[fe[l]]) l = k;
+    }
+    if (len[fe[s]] < needle_ratio * len[fe[l]]) cand[fe[s]] = 1;
+  }
+  std::vector<int> order;
+  for (int e = 0; e < ne; ++e)
+    if (cand[e] && topo.edge_count[e] == 2) order.push_back(e);
+  std::sort(order.begin(), order.end(), [&](int x, int y) { return len[x] < len[y] || (len[x] == len[y] && x < y); });
+
+  std::vector<char> locked(nv, 0), face_dead(nf, 0);
+  std::vector<int> remap(nv);
+  std::iota(remap.begin(), remap.end(), 0);
+  const double cos_max_turn = 0.5;
+  std::int64_t count = 0;
+  for (int e : order) {
+    const int a = topo.edge_v[e][0], b = topo.edge_v[e][1];
+    if (locked[a] || locked[b]) continue;
+    if (topo.degree(a) <= 3 || topo.degree(b) <= 3) continue;
+    const int f1 = topo.edge_f[e][0], f2 = topo.edge_f[e][1];
+    const int c = opposite(m.F[f1], a, b), d = opposite(m.F[f2], a, b);
+    if (c < 0 || d < 0 || c == d) continue;
+    if (topo.degree(c) <= 3 || topo.degree(d) <= 3) continue;
+    // link condition: common neighbours of a and b are exactly {c, d}
+    int common = 0;
+    {
+      auto i = topo.nbr.begin() + topo.nbr_start[a], ie = topo.nbr.begin() + topo.nbr_start[a + 1];
+      auto j = topo.nbr.begin() + topo.nbr_start[b], je = topo.nbr.begin() + topo.nbr_start[b + 1];
+      while (i != ie && j != je) {
+        if (*i < *j) ++i;
+        else if (*j < *i) ++j;
+        else { ++common; ++i; ++j; }
+      }
+    }
+    if (common != 2) continue;
+    const Eigen::Vector3d p = 0.5 * (m.V[a] + m.V[b]);
+    const double fpp = 0.5 * (m.fp[a] + m.fp[b]);
+    bool ok = true;
+    for (int end : {a, b}) {
+      for (int q = topo.vf_start[end]; q < topo.vf_start[end + 1] && ok; ++q) {
+        const int f = topo.vf[q];
+        if (f == f1 || f == f2) continue;
+        const auto& t = m.F[f];
+        const Eigen::Vector3d n0 = tri_cross(m.V, t[0], t[1], t[2]);
+        Eigen::Vector3d P[3];
+        for (int k = 0; k < 3; ++k) P[k] = (t[k] == end) ? p : m.V[t[k]];
+        const Eigen::Vector3d n1 = (P[1] - P[0]).cross(P[2] - P[0]);
+        const double l0 = n0.norm(), l1 = n1.norm();
+        if (!(l1 > 1e-6 * fpp * fpp) || n0.dot(n1) < cos_max_turn * l0 * l1) ok = false;
+      }
+      for (int q = topo.nbr_start[end]; q < topo.nbr_start[end + 1] && ok; ++q) {
+        const int w = topo.nbr[q];
+        if ((m.V[w] - p).norm() / (0.5 * (fpp + m.fp[w])) > max_px) ok = false;
+      }
+    }
+    if (!ok) continue;
+    // collapse b into a
+    m.V[a] = p;
+    m.fp[a] = fpp;
+    remap[b] = a;
+    face_dead[f1] = face_dead[f2] = 1;
+    for (int end : {a, b}) {
+      locked[end] = 1;
+      for (int q = topo.nbr_start[end]; q < topo.nbr_start[end + 1]; ++q) locked[topo.nbr[q]] = 1;
+    }
+    ++count;
+  }
+  if (count == 0) return 0;
+  std::vector<Eigen::Vector3i> F;
+  F.reserve(nf);
+  for (int f = 0; f < nf; ++f)
+    if (!face_dead[f]) F.emplace_back(remap[m.F[f][0]], remap[m.F[f][1]], remap[m.F[f][2]]);
+  std::vector<int> newid(nv, -1);
+  int k = 0;
+  for (const auto& t : F)
+    for (int i = 0; i < 3; ++i) newid[t[i]] = 0;
+  std::vector<Eigen::Vector3d> V;
+  std::vector<double> fp;
+  for (int v = 0; v < nv; ++v)
+    if (newid[v] == 0) {
+      newid[v] = k++;
+      V.push_back(m.V[v]);
+      fp.push_back(m.fp[v]);
+    }
+  for (auto& t : F)
+    for (int i = 0; i < 3; ++i) t[i] = newid[t[i]];
+  m.V.swap(V);
+  m.fp.swap(fp);
+  m.F.swap(F);
+  return count;
+}
+
+std::int64_t flip_edges(RemeshMesh& m, double max_dihedral_deg) {
+  const int nv = static_cast<int>(m.V.size()), nf = static_cast<int>(m.F.size());
+  const Topology topo = build_topology(m.F, nv);
+  const int ne = topo.num_edges();
+  std::vector<int> degree(nv);
+  for (int v = 0; v < nv; ++v) degree[v] = topo.degree(v);
+  std::vector<char> face_locked(nf, 0);
+  struct PairHash {
+    std::size_t operator()(std::uint64_t x) const { return std::hash<std::uint64_t>()(x); }
+  };
+  std::unordered_set<std::uint64_t, PairHash> created;
+  const auto key = [](int x, int y) {
+    if (x > y) std::swap(x, y);
+    return (static_cast<std::uint64_t>(x) << 32) | static_cast<std::uint32_t>(y);
+  };
+  const double cos_dihedral = std::cos(max_dihedral_deg * M_PI / 180.0);
+  const auto angle = [&](int at, int p, int q) {
+    const Eigen::Vector3d u = m.V[p] - m.V[at], w = m.V[q] - m.V[at];
+    return std::atan2(u.cross(w).norm(), u.dot(w));
+  };
+  std::int64_t count = 0;
+  for (int e = 0; e < ne; ++e) {
+    if (topo.edge_count[e] != 2) continue;
+    const int f1 = topo.edge_f[e][0], f2 = topo.edge_f[e][1];
+    if (face_locked[f1] || face_locked[f2]) continue;
+    const int a0 = topo.edge_v[e][0], b0 = topo.edge_v[e][1];
+    // orient: f1 holds a -> b
+    const auto& t1 = m.F[f1];
+    int a = a0, b = b0;
+    {
+      int k = 0;
+      while (t1[k] != a0) ++k;
+      if (t1[(k + 1) % 3] != b0) std::swap(a, b);
+    }
+    const int c = opposite(m.F[f1], a, b), d = opposite(m.F[f2], a, b);
+    if (c < 0 || d < 0 || c == d) continue;
+    if (degree[a] <= 3 || degree[b] <= 3) continue;
+    if (angle(c, a, b) + angle(d, a, b) <= M_PI + 1e-6) continue;
+    const Eigen::Vector3d n1 = tri_cross(m.V, a, b, c), n2 = tri_cross(m.V, b, a, d);
+    if (n1.dot(n2) < cos_dihedral * n1.norm() * n2.norm()) continue;
+    if (topo.find_edge(c, d) >= 0 || created.count(key(c, d))) continue;
+    const Eigen::Vector3d m1 = tri_cross(m.V, c, a, d), m2 = tri_cross(m.V, d, b, c);
+    const Eigen::Vector3d ns = n1.normalized() + n2.normalized();
+    if (!(m1.dot(ns) > 0) || !(m2.dot(ns) > 0)) continue;
+    m.F[f1] = Eigen::Vector3i(c, a, d);
+    m.F[f2] = Eigen::Vector3i(d, b, c);
+    face_locked[f1] = face_locked[f2] = 1;
+    created.insert(key(c, d));
+    --degree[a];
+    --degree[b];
+    ++degree[c];
+    ++degree[d];
+    ++count;
+  }
+  return count;
+}
+
+}  // namespace tetmvs::deform

@@ -1,0 +1,43 @@
+// Remeshing of deform (paper section 3.3): 2-D red-green subdivision of long edges,
+// collapse of short edges and of the shortest edge of needle triangles, and
+// Delaunay edge flips. Every operation keeps a closed edge-manifold mesh closed and
+// edge-manifold, keeps the orientation and never changes the topology (collapses check
+// the link condition). Edge lengths are measured in pixels: length / footprint, with
+// fp[v] the pixel footprint (world units per pixel) at vertex v in its finest view.
+// Deterministic (sequential, in edge order).
+#pragma once
+#include <Eigen/Dense>
+#include <cstdint>
+#include <vector>
+
+namespace tetmvs::deform {
+
+struct RemeshMesh {
+  std::vector<Eigen::Vector3d> V;
+  std::vector<Eigen::Vector3i> F;
+  std::vector<double> fp;  // per-vertex pixel footprint (world units per pixel), > 0
+};
+
+// Length of edge (a, b) in pixels.
+double edge_px(const RemeshMesh& m, int a, int b);
+
+// Red-green split: edges longer than max_px are marked; faces with two marked edges get
+// the third marked too (repeated until stable); a face with one marked edge is split 1:2
+// (midpoint to the opposite corner), a face with three 1:4. New vertices are edge
+// midpoints (footprint = mean of the ends). Returns the number of edges split.
+std::int64_t split_long_edges(RemeshMesh& m, double max_px);
+
+// Collapses edges shorter than min_px, and the shortest edge of triangles whose
+// shortest / longest edge ratio is below needle_ratio, into their midpoint, shortest
+// first, when the link condition holds (the ends share exactly the two opposite
+// vertices, both of degree > 3), no surrounding triangle turns by more than 60 degrees
+// or becomes degenerate, and no new edge exceeds max_px. Unused vertices are removed.
+// Returns the number of collapses.
+std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ratio, double max_px);
+
+// Flips edges whose two opposite angles sum to more than pi (Delaunay criterion), when
+// the two triangles are within max_dihedral_deg of coplanar, the new edge does not exist
+// yet and the ends keep degree >= 4. Returns the number of flips.
+std::int64_t flip_edges(RemeshMesh& m, double max_dihedral_deg);
+
+}  // namespace tetmvs::deform

@@ -1,0 +1,73 @@
+#include "common/deform/topology.h"
+
+#include <algorithm>
+
+namespace tetmvs::deform {
+
+int Topology::find_edge(int a, int b) const {
+  if (a > b) std::swap(a, b);
+  const std::array<int, 2> key{a, b};
+  auto it = std::lower_bound(edge_v.begin(), edge_v.end(), key);
+  if (it == edge_v.end() || *it != key) return -1;
+  return static_cast<int>(it - edge_v.begin());
+}
+
+bool Topology::closed_manifold() const {
+  for (auto c : edge_count)
+    if (c != 2) return false;
+  return true;
+}
+
+Topology build_topology(const std::vector<Eigen::Vector3i>& F, int nv) {
+  Topology t;
+  t.num_vertices = nv;
+  const int nf = static_cast<int>(F.size());
+  struct H { int a, b, f, k; };
+  std::vector<H> h;
+  h.reserve(3 * static_cast<size_t>(nf));
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F[f][k], b = F[f][(k + 1) % 3];
+      h.push_back({std::min(a, b), std::max(a, b), f, k});
+    }
+  std::sort(h.begin(), h.end(), [](const H& x, const H& y) {
+    return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : (x.f != y.f ? x.f < y.f : x.k < y.k));
+  });
+  t.face_e.assign(nf, {-1, -1, -1});
+  for (size_t i = 0; i < h.size();) {
+    size_t j = i;
+    while (j < h.size() && h[j].a == h[i].a && h[j].b == h[i].b) ++j;
+    const int e = static_cast<int>(t.edge_v.size());
+    t.edge_v.push_back({h[i].a, h[i].b});
+    t.edge_f.push_back({h[i].f, j - i > 1 ? h[i + 1].f : -1});
+    t.edge_count.push_back(static_cast<std::uint8_t>(std::min<size_t>(j - i, 255)));
+    for (size_t q = i; q < j; ++q) t.face_e[h[q].f][h[q].k] = e;
+    i = j;
+  }
+  // Vertex neighbours from edges (edges are sorted by (a, b), so each row ends up sorted
+  // after a per-row sort).
+  t.nbr_start.assign(nv + 1, 0);
+  for (const auto& e : t.edge_v) {
+    t.nbr_start[e[0] + 1]++;
+    t.nbr_start[e[1] + 1]++;
+  }
+  for (int v = 0; v < nv; ++v) t.nbr_start[v + 1] += t.nbr_start[v];
+  t.nbr.resize(t.nbr_start[nv]);
+  std::vector<int> fill(t.nbr_start.begin(), t.nbr_start.end() - 1);
+  for (const auto& e : t.edge_v) {
+    t.nbr[fill[e[0]]++] = e[1];
+    t.nbr[fill[e[1]]++] = e[0];
+  }
+  for (int v = 0; v < nv; ++v) std::sort(t.nbr.begin() + t.nbr_start[v], t.nbr.begin() + t.nbr_start[v + 1]);
+  t.vf_start.assign(nv + 1, 0);
+  for (const auto& f : F)
+    for (int k = 0; k < 3; ++k) t.vf_start[f[k] + 1]++;
+  for (int v = 0; v < nv; ++v) t.vf_start[v + 1] += t.vf_start[v];
+  t.vf.resize(t.vf_start[nv]);
+  fill.assign(t.vf_start.begin(), t.vf_start.end() - 1);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) t.vf[fill[F[f][k]]++] = f;  // ascending f
+  return t;
+}
+
+}  // namespace tetmvs::deform

@@ -1,0 +1,30 @@
+// Adjacency of a closed triangle mesh for deform (paper section 3.3): unique edges with
+// their two faces, each face's three edges, and each vertex's neighbours and faces
+// (compressed rows, sorted). Rebuilt after every remeshing pass; O(F log F).
+#pragma once
+#include <Eigen/Dense>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace tetmvs::deform {
+
+struct Topology {
+  int num_vertices = 0;
+  std::vector<std::array<int, 2>> edge_v;  // edge endpoints, lower index first; sorted
+  std::vector<std::array<int, 2>> edge_f;  // the faces on the edge (second -1 on a boundary edge)
+  std::vector<std::uint8_t> edge_count;    // faces on the edge (> 2: non-manifold)
+  std::vector<std::array<int, 3>> face_e;  // face_e[f][k]: edge from corner k to corner k+1
+  std::vector<int> nbr_start, nbr;         // neighbours of v: nbr[nbr_start[v] .. nbr_start[v+1])
+  std::vector<int> vf_start, vf;           // faces of v (ascending)
+
+  int num_edges() const { return static_cast<int>(edge_v.size()); }
+  int degree(int v) const { return nbr_start[v + 1] - nbr_start[v]; }
+  // Edge id of (a, b) or -1 (binary search).
+  int find_edge(int a, int b) const;
+  bool closed_manifold() const;  // every edge has exactly two faces
+};
+
+Topology build_topology(const std::vector<Eigen::Vector3i>& F, int num_vertices);
+
+}  // namespace tetmvs::deform

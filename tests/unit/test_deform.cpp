@@ -1,0 +1,243 @@
+// deform's building blocks: remeshing (red-green splits, collapses, flips), the
+// self-intersection test, the signed distance of silhouettes, the smoothness force.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/deform/forces.h"
+#include "common/deform/intersect.h"
+#include "common/deform/options.h"
+#include "common/deform/remesh.h"
+#include "common/deform/topology.h"
+#include "common/error.h"
+#include "common/params.h"
+#include "common/synth/objects.h"
+#include "common/trimesh/check.h"
+
+using namespace tetmvs;
+using namespace tetmvs::deform;
+
+namespace {
+RemeshMesh from_trimesh(const TriMesh& t, double fp = 1.0) {
+  RemeshMesh m;
+  m.V = t.V;
+  m.F = t.F;
+  m.fp.assign(t.V.size(), fp);
+  return m;
+}
+TriMesh to_trimesh(const RemeshMesh& m) {
+  TriMesh t;
+  t.V = m.V;
+  t.F = m.F;
+  return t;
+}
+double max_edge(const RemeshMesh& m) {
+  const Topology topo = build_topology(m.F, static_cast<int>(m.V.size()));
+  double mx = 0;
+  for (const auto& e : topo.edge_v) mx = std::max(mx, edge_px(m, e[0], e[1]));
+  return mx;
+}
+void expect_closed_genus(const TriMesh& t, int genus, const char* what) {
+  const MeshCheck c = check_mesh(t);
+  EXPECT_TRUE(c.closed) << what;
+  EXPECT_TRUE(c.edge_manifold) << what;
+  EXPECT_TRUE(c.oriented) << what;
+  EXPECT_EQ(c.degenerate_faces, 0) << what;
+  ASSERT_EQ(c.components.size(), 1u) << what;
+  EXPECT_EQ(c.components[0].genus, genus) << what;
+  EXPECT_GT(c.components[0].signed_volume, 0) << what;
+}
+}  // namespace
+
+TEST(DeformTopology, EdgesAndNeighboursOfATetrahedron) {
+  std::vector<Eigen::Vector3i> F = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  const Topology t = build_topology(F, 4);
+  EXPECT_EQ(t.num_edges(), 6);
+  EXPECT_TRUE(t.closed_manifold());
+  for (int v = 0; v < 4; ++v) EXPECT_EQ(t.degree(v), 3);
+  const int e = t.find_edge(3, 1);
+  ASSERT_GE(e, 0);
+  EXPECT_EQ(t.edge_f[e][0], 1);
+  EXPECT_EQ(t.edge_f[e][1], 2);
+  EXPECT_EQ(t.find_edge(0, 0), -1);
+}
+
+TEST(DeformRemesh, RedGreenSplitBoundsEdgesAndKeepsTheSurface) {
+  const TriMesh sphere = synth::make_sphere(0.5);
+  RemeshMesh m = from_trimesh(sphere, 0.1);  // edges of ~5 "pixels"
+  const double vol0 = signed_volume(sphere);
+  const std::size_t f0 = m.F.size();
+  std::int64_t total = 0;
+  for (int pass = 0; pass < 6 && max_edge(m) > 2.0; ++pass) total += split_long_edges(m, 2.0);
+  EXPECT_GT(total, 0);
+  EXPECT_LE(max_edge(m), 2.0);
+  EXPECT_GT(m.F.size(), 4 * f0);
+  const TriMesh t = to_trimesh(m);
+  expect_closed_genus(t, 0, "after splits");
+  // midpoints lie on the old triangles: the volume does not change
+  EXPECT_NEAR(signed_volume(t), vol0, 1e-9 * std::abs(vol0));
+}
+
+TEST(DeformRemesh, SplitPatternsOneEdgeAndAllThree) {
+  // Two triangles sharing edge (0, 1): only that edge is long -> both split 1:2.
+  RemeshMesh m;
+  m.V = {{0, 0, 0}, {10, 0, 0}, {5, 1, 0}, {5, -1, 0}};
+  m.F = {{0, 1, 2}, {1, 0, 3}};
+  m.fp = {1, 1, 1, 1};
+  EXPECT_EQ(split_long_edges(m, 6.0), 1);
+  EXPECT_EQ(m.F.size(), 4u);
+  EXPECT_EQ(m.V.size(), 5u);
+  EXPECT_TRUE(m.V[4].isApprox(Eigen::Vector3d(5, 0, 0)));
+  // A single big triangle: all three edges long -> 1:4.
+  RemeshMesh r;
+  r.V = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}};
+  r.F = {{0, 1, 2}};
+  r.fp = {1, 1, 1};
+  EXPECT_EQ(split_long_edges(r, 6.0), 3);
+  EXPECT_EQ(r.F.size(), 4u);
+  double area = 0;
+  for (const auto& t : r.F) area += 0.5 * (r.V[t[1]] - r.V[t[0]]).cross(r.V[t[2]] - r.V[t[0]]).z();
+  EXPECT_NEAR(area, 50.0, 1e-12);  // orientation kept (all positive), area kept
+}
+
+TEST(DeformRemesh, TwoLongEdgesBecomeRed) {
+  // Only two edges are long: the closure marks the third, so the triangle splits 1:4.
+  RemeshMesh r;
+  r.V = {{0, 0, 0}, {10, 0, 0}, {9, 3, 0}};
+  r.F = {{0, 1, 2}};
+  r.fp = {1, 1, 1};
+  EXPECT_EQ(split_long_edges(r, 5.0), 3);
+  EXPECT_EQ(r.F.size(), 4u);
+}
+
+TEST(DeformRemesh, CollapseRemovesShortEdgesAndKeepsTopology) {
+  const TriMesh torus = synth::make_torus(0.12);
+  RemeshMesh m = from_trimesh(torus, 0.1);  // edges ~1.2 px
+  const std::size_t v0 = m.V.size();
+  // collapse the shorter half of the edges
+  const Topology topo = build_topology(m.F, static_cast<int>(m.V.size()));
+  std::vector<double> len;
+  for (const auto& e : topo.edge_v) len.push_back(edge_px(m, e[0], e[1]));
+  std::nth_element(len.begin(), len.begin() + len.size() / 2, len.end());
+  const double med = len[len.size() / 2];
+  const std::int64_t n = collapse_short_edges(m, med, 0.0, 4.0 * med);
+  EXPECT_GT(n, 0);
+  EXPECT_LT(m.V.size(), v0);
+  EXPECT_EQ(m.fp.size(), m.V.size());
+  expect_closed_genus(to_trimesh(m), 1, "after collapses");
+  EXPECT_NEAR(signed_volume(to_trimesh(m)), signed_volume(torus), 0.05 * signed_volume(torus));
+  // repeated passes converge without breaking the mesh
+  for (int i = 0; i < 10; ++i) collapse_short_edges(m, med, 0.0, 4.0 * med);
+  expect_closed_genus(to_trimesh(m), 1, "after many collapses");
+}
+
+TEST(DeformRemesh, CollapseNeedles) {
+  // A fan around a centre with one very short spoke: the needle's short edge goes.
+  const TriMesh sphere = synth::make_sphere(0.3);
+  RemeshMesh m = from_trimesh(sphere, 0.1);
+  m.V[0] = 0.1 * m.V[0] + 0.9 * m.V[build_topology(m.F, (int)m.V.size()).nbr[0]];  // pull toward a neighbour
+  const std::size_t v0 = m.V.size();
+  EXPECT_GE(collapse_short_edges(m, 0.0, 0.2, 10.0), 1);
+  EXPECT_LT(m.V.size(), v0);
+  expect_closed_genus(to_trimesh(m), 0, "after needle collapse");
+}
+
+TEST(DeformRemesh, FlipsImproveTheSmallestAngle) {
+  // Green (1:2) splits leave thin triangles on a sphere; Delaunay flips fatten them.
+  TriMesh s = synth::make_sphere(0.4);
+  RemeshMesh q = from_trimesh(s, 0.1);
+  split_long_edges(q, 0.4 / 0.1 * 0.9);
+  auto min_angle = [](const RemeshMesh& r) {
+    double mn = M_PI;
+    for (const auto& t : r.F)
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d a = r.V[t[(k + 1) % 3]] - r.V[t[k]], b = r.V[t[(k + 2) % 3]] - r.V[t[k]];
+        mn = std::min(mn, std::atan2(a.cross(b).norm(), a.dot(b)));
+      }
+    return mn;
+  };
+  const double before = min_angle(q);
+  std::int64_t flips = 0;
+  for (int i = 0; i < 5; ++i) flips += flip_edges(q, 30.0);
+  EXPECT_GT(flips, 0);
+  EXPECT_GE(min_angle(q), before);
+  expect_closed_genus(to_trimesh(q), 0, "after flips");
+}
+
+TEST(DeformIntersect, SegmentTriangle) {
+  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  EXPECT_TRUE(segment_crosses_triangle({0.2, 0.2, -1}, {0.2, 0.2, 1}, a, b, c));
+  EXPECT_FALSE(segment_crosses_triangle({0.8, 0.8, -1}, {0.8, 0.8, 1}, a, b, c));
+  EXPECT_FALSE(segment_crosses_triangle({0.2, 0.2, 0.1}, {0.2, 0.2, 1}, a, b, c));
+  // touching at a vertex does not count
+  EXPECT_FALSE(segment_crosses_triangle({0, 0, 0}, {0.2, 0.2, 1}, a, b, c));
+}
+
+TEST(DeformIntersect, CleanMeshesHaveNoneAndAPushedVertexMakesSome) {
+  const TriMesh torus = synth::make_torus(0.1);
+  EXPECT_TRUE(self_intersections(torus.V, torus.F).empty());
+  // two spheres touching at no point, then overlapping
+  TriMesh two = synth::make_two(0.15);
+  EXPECT_TRUE(self_intersections(two.V, two.F).empty());
+  // push one vertex of a sphere through the opposite side
+  TriMesh s = synth::make_sphere(0.2);
+  int top = 0;
+  for (int v = 0; v < (int)s.nv(); ++v)
+    if (s.V[v].z() > s.V[top].z()) top = v;
+  s.V[top] = Eigen::Vector3d(0.01, 0.02, -1.5);
+  const auto pairs = self_intersections(s.V, s.F);
+  EXPECT_GT(pairs.size(), 0u);
+  for (const auto& p : pairs) EXPECT_LT(p.first, p.second);
+  // filtering to faces away from the pushed vertex finds fewer or equal
+  std::vector<char> only(s.nf(), 0);
+  only[0] = 1;
+  EXPECT_LE(self_intersections(s.V, s.F, only).size(), pairs.size());
+}
+
+TEST(DeformSilhouette, SignedDistanceIsZeroOnTheBoundary) {
+  cv::Mat m = cv::Mat::zeros(40, 40, CV_8U);
+  m(cv::Rect(10, 10, 20, 20)).setTo(255);  // object pixels 10..29
+  const cv::Mat sd = signed_distance(m);
+  EXPECT_NEAR(sd.at<float>(20, 10), -0.5f, 1e-4);  // first object pixel
+  EXPECT_NEAR(sd.at<float>(20, 9), 0.5f, 1e-4);    // first background pixel
+  EXPECT_NEAR(sd.at<float>(20, 20), -9.5f, 0.05);  // 10 px to the pixel 30
+  EXPECT_NEAR(sd.at<float>(20, 2), 7.5f, 0.05);
+}
+
+TEST(DeformSmooth, BilaplacianDoesNotShrinkASphereButUmbrellaDoes) {
+  const TriMesh s = synth::make_sphere(0.1);
+  const Topology topo = build_topology(s.F, (int)s.nv());
+  const auto N = vertex_normals(s.V, s.F);
+  Options o;
+  o.smooth_tangent = 0;
+  o.smooth_normal = 0;
+  o.smooth_bilaplacian = 0.2;
+  const auto bi = smooth_force(s.V, topo, N, o);
+  o.smooth_bilaplacian = 0;
+  o.smooth_normal = 0.2;
+  const auto um = smooth_force(s.V, topo, N, o);
+  double mb = 0, mu = 0;
+  for (size_t v = 0; v < s.nv(); ++v) {
+    mb += bi[v].dot(N[v]);
+    mu += um[v].dot(N[v]);
+  }
+  mb /= s.nv();
+  mu /= s.nv();
+  EXPECT_LT(mu, 0);                    // umbrella moves inward
+  EXPECT_LT(std::abs(mb), 0.2 * std::abs(mu));  // bi-Laplacian: far less net normal motion
+}
+
+TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
+  const Options o = Options::from_params(Params::defaults());
+  EXPECT_EQ(o.iterations, Options{}.iterations);
+  EXPECT_DOUBLE_EQ(o.max_edge_px, 2.0);
+  Options bad = o;
+  bad.min_edge_px = 1.5;
+  EXPECT_THROW(bad.check(), Error);
+  bad = o;
+  bad.smooth_bilaplacian = 0.6;
+  EXPECT_THROW(bad.check(), Error);
+  bad = o;
+  bad.texture_step_px = 0;
+  EXPECT_THROW(bad.check(), Error);
+}

@@ -1,0 +1,169 @@
+// deform on rendered synthetic scenes (16 ring cameras, 240 x 180): a faceted start
+// surface (the boundary of BCC cells whose centroids lie inside the ground truth, about
+// 1.5 px off at the 90th percentile) is refined toward the ground truth; topology,
+// closedness and freedom from self-intersections are kept.
+#include <gtest/gtest.h>
+
+#include <omp.h>
+
+#include <cstdio>
+
+#include "common/deform/deform.h"
+#include "common/error.h"
+#include "common/photo/options.h"
+#include "common/trimesh/check.h"
+#include "test_deform_scene.h"
+
+using namespace tetmvs;
+using namespace tetmvs::testing;
+
+namespace {
+
+// Test-sized settings: coarser remeshing (5 px edges) and 8 iterations keep each scene
+// within a few seconds.
+deform::Options test_options() {
+  deform::Options o;
+  o.iterations = 8;
+  o.max_edge_px = 5.0;
+  o.min_edge_px = 1.2;
+  o.texture_range_px = 2.5;
+  return o;
+}
+
+struct Outcome {
+  EvalResult before, after;
+  deform::Result res;
+  MeshCheck start_check, end_check;
+  double acc0 = 0, acc1 = 0;  // accuracy (90 %) in pixels
+};
+
+Outcome run(const DeformScene& d, const TriMesh& start, const deform::Options& o, const char* what) {
+  Outcome out;
+  out.start_check = check_mesh(start);
+  out.before = evaluate_px(start, d);
+  out.res = deform::deform_mesh(start, d.scene, o, photo::Options{});
+  out.after = evaluate_px(out.res.mesh, d);
+  out.end_check = check_mesh(out.res.mesh);
+  out.acc0 = out.before.all.accuracy.at_fraction / d.px;
+  out.acc1 = out.after.all.accuracy.at_fraction / d.px;
+  const auto& a = out.before.all;
+  const auto& b = out.after.all;
+  std::printf("  %s: accuracy %.3f -> %.3f px (mean %.3f -> %.3f), completeness(1.25mm) %.4f -> %.4f, (1px) %.4f -> "
+              "%.4f, IoU %.4f -> %.4f, faces %zu -> %zu, intersections %lld -> %lld\n",
+              what, out.acc0, out.acc1, a.accuracy.mean / d.px, b.accuracy.mean / d.px, a.completeness.within[0],
+              b.completeness.within[0], a.completeness.within[1], b.completeness.within[1], out.res.start_iou,
+              out.res.final_iou, start.nf(), out.res.mesh.nf(), (long long)out.res.start_intersections,
+              (long long)out.res.final_intersections);
+  return out;
+}
+
+void expect_same_topology(const Outcome& o) {
+  EXPECT_TRUE(o.end_check.closed);
+  EXPECT_TRUE(o.end_check.edge_manifold);
+  EXPECT_TRUE(o.end_check.oriented);
+  EXPECT_EQ(o.end_check.degenerate_faces, 0);
+  ASSERT_EQ(o.end_check.components.size(), o.start_check.components.size());
+  for (size_t i = 0; i < o.end_check.components.size(); ++i)
+    EXPECT_EQ(o.end_check.components[i].genus, o.start_check.components[i].genus);
+  EXPECT_EQ(o.res.final_intersections, 0);
+  EXPECT_EQ(o.res.mesh.N.size(), o.res.mesh.nv());
+  EXPECT_EQ(o.res.mesh.C.size(), o.res.mesh.nv());
+}
+
+const DeformScene& textured_sphere() {
+  static const DeformScene d = make_deform_scene("sphere", 16, 1.0, 240, 180);
+  return d;
+}
+
+}  // namespace
+
+TEST(DeformScene, TexturedSphereFromBccFacets) {
+  const DeformScene& d = textured_sphere();
+  const TriMesh start = bcc_start_surface(d.gt, 6 * d.px);
+  const Outcome o = run(d, start, test_options(), "textured sphere");
+  expect_same_topology(o);
+  EXPECT_GT(o.acc0, 1.2);  // the start really is off
+  EXPECT_LT(o.acc1, 0.5);
+  EXPECT_LT(o.acc1, o.acc0 / 3);
+  EXPECT_GE(o.after.all.completeness.within[1], o.before.all.completeness.within[1]);
+  EXPECT_GE(o.after.all.completeness.within[0], o.before.all.completeness.within[0] - 1e-4);
+  EXPECT_GT(o.res.final_iou, o.res.start_iou);
+  EXPECT_GT(o.res.final_iou, 0.99);
+  ASSERT_EQ(o.res.iterations.size(), 8u);
+  const auto& last = o.res.iterations.back();
+  EXPECT_GT(last.texture_applied, 0.5);
+  EXPECT_GT(last.mean_texture_score, 0.9);
+  EXPECT_LT(last.mean_move_px, o.res.iterations[2].mean_move_px);  // settles
+  // colours come from the images: only the bottom pole, which no camera of the
+  // 20-degree ring faces, keeps the grey of unseen vertices
+  int grey = 0;
+  for (const auto& c : o.res.mesh.C) grey += c[0] == 128 && c[1] == 128 && c[2] == 128;
+  EXPECT_LT(grey, static_cast<int>(o.res.mesh.nv() / 20));
+}
+
+TEST(DeformScene, TexturedTorusKeepsItsHole) {
+  const DeformScene d = make_deform_scene("torus", 16, 1.0, 240, 180);
+  const TriMesh start = bcc_start_surface(d.gt, 6 * d.px);
+  const Outcome o = run(d, start, test_options(), "textured torus");
+  expect_same_topology(o);
+  EXPECT_EQ(o.end_check.components[0].genus, 1);
+  EXPECT_LT(o.acc1, 0.8);  // measured 0.75 px (the inner side of the ring is seen by few views)
+  EXPECT_LT(o.acc1, o.acc0 / 1.8);
+  EXPECT_GE(o.after.all.completeness.within[1], o.before.all.completeness.within[1]);
+}
+
+TEST(DeformScene, TexturelessSphereIsNoWorse) {
+  // No texture: the texture force finds no clear peak; silhouettes and smoothing hold the surface.
+  const DeformScene d = make_deform_scene("sphere", 16, 0.0, 240, 180);
+  const TriMesh start = bcc_start_surface(d.gt, 6 * d.px);
+  const Outcome o = run(d, start, test_options(), "textureless sphere");
+  expect_same_topology(o);
+  EXPECT_LE(o.acc1, o.acc0);
+  EXPECT_GE(o.after.all.completeness.within[0], o.before.all.completeness.within[0] - 1e-4);
+  EXPECT_LT(o.res.iterations.back().texture_applied, 0.1);
+}
+
+TEST(DeformScene, WithoutSilhouettesTextureAloneImproves) {
+  DeformScene d = textured_sphere();
+  for (int i = 0; i < d.scene.size(); ++i)
+    if (i % 2 == 0) d.scene.sil[i] = cv::Mat();  // half the views have none
+  const TriMesh start = bcc_start_surface(d.gt, 6 * d.px);
+  const Outcome half = run(d, start, test_options(), "half the silhouettes");
+  expect_same_topology(half);
+  EXPECT_LT(half.acc1, 0.55);  // measured 0.50
+  for (auto& s : d.scene.sil) s = cv::Mat();
+  const Outcome none = run(d, start, test_options(), "no silhouettes");
+  expect_same_topology(none);
+  EXPECT_EQ(none.res.final_iou, -1.0);
+  EXPECT_EQ(none.res.iterations[0].rim_vertices, 0);
+  EXPECT_LT(none.acc1, 0.6);
+}
+
+TEST(DeformScene, SameResultForAnyThreadCount) {
+  const DeformScene& d = textured_sphere();
+  const TriMesh start = bcc_start_surface(d.gt, 8 * d.px);
+  deform::Options o = test_options();
+  o.iterations = 3;
+  o.texture_start = 1;
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const deform::Result a = deform::deform_mesh(start, d.scene, o, photo::Options{});
+  omp_set_num_threads(3);
+  const deform::Result b = deform::deform_mesh(start, d.scene, o, photo::Options{});
+  omp_set_num_threads(saved);
+  ASSERT_EQ(a.mesh.nv(), b.mesh.nv());
+  ASSERT_EQ(a.mesh.nf(), b.mesh.nf());
+  for (size_t v = 0; v < a.mesh.nv(); ++v) ASSERT_EQ(a.mesh.V[v], b.mesh.V[v]) << v;
+  for (size_t f = 0; f < a.mesh.nf(); ++f) ASSERT_EQ(a.mesh.F[f], b.mesh.F[f]) << f;
+  EXPECT_EQ(a.iterations.back().mean_texture_score, b.iterations.back().mean_texture_score);
+}
+
+TEST(DeformScene, RejectsAnOpenMesh) {
+  const DeformScene& d = textured_sphere();
+  TriMesh start = bcc_start_surface(d.gt, 8 * d.px);
+  start.F.pop_back();
+  EXPECT_THROW(deform::deform_mesh(start, d.scene, test_options(), photo::Options{}), Error);
+  TriMesh inward = bcc_start_surface(d.gt, 8 * d.px);
+  flip_orientation(inward);
+  EXPECT_THROW(deform::deform_mesh(inward, d.scene, test_options(), photo::Options{}), Error);
+}
