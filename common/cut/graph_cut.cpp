@@ -51,6 +51,18 @@ CutResult min_cut(const tet::TetMesh& m, const std::vector<float>& omega,
     ++start[na + 1];
     ++start[nb + 1];
   });
+  // visibility term: terminal edges source->c (inside evidence) and c->sink (outside)
+  const bool vis = opt.beta > 0 && opt.inside_evidence && opt.outside_evidence;
+  if (vis) {
+    require(static_cast<std::int32_t>(opt.inside_evidence->size()) == C &&
+                static_cast<std::int32_t>(opt.outside_evidence->size()) == C,
+            "min_cut: one evidence value per cell expected");
+    for (std::int32_t c = 0; c < C; ++c) {
+      if (node[c] < 2) continue;
+      if ((*opt.inside_evidence)[c] > 0) ++start[0 + 1], ++start[node[c] + 1];
+      if ((*opt.outside_evidence)[c] > 0) ++start[node[c] + 1], ++start[1 + 1];
+    }
+  }
   for (std::uint32_t v = 0; v < n; ++v) start[v + 1] += start[v];
   const std::uint64_t E = start[n];
   require(E < (1ULL << 32), "min_cut: graph too large (", E, " edges)");
@@ -68,6 +80,26 @@ CutResult min_cut(const tet::TetMesh& m, const std::vector<float>& omega,
     cap[e1] = cost(f, 0);  // na -> nb: na inside, nb outside
     cap[e2] = cost(f, 1);
   });
+  std::vector<double> unary_in(vis ? C : 0, 0.0), unary_out(vis ? C : 0, 0.0);
+  if (vis) {
+    const auto add = [&](std::uint32_t a, std::uint32_t b, double capacity) {
+      const std::uint64_t e1 = fill[a]++, e2 = fill[b]++;
+      target[e1] = b;
+      target[e2] = a;
+      rev[e1] = static_cast<std::uint32_t>(e2);
+      rev[e2] = static_cast<std::uint32_t>(e1);
+      cap[e1] = capacity;
+      cap[e2] = 0.0;
+    };
+    for (std::int32_t c = 0; c < C; ++c) {
+      if (node[c] < 2) continue;
+      const double s = opt.beta * std::cbrt(m.cell_volume(c) * m.cell_volume(c));
+      unary_in[c] = s * (*opt.inside_evidence)[c];
+      unary_out[c] = s * (*opt.outside_evidence)[c];
+      if ((*opt.inside_evidence)[c] > 0) add(0u, node[c], unary_in[c]);     // cut when c ends outside
+      if ((*opt.outside_evidence)[c] > 0) add(node[c], 1u, unary_out[c]);   // cut when c ends inside
+    }
+  }
   // CSR graph from the sorted edge list
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   pairs.reserve(E);
@@ -125,7 +157,9 @@ CutResult min_cut(const tet::TetMesh& m, const std::vector<float>& omega,
     r.cut_area += area;
     ++r.cut_faces;
   }
-  r.energy = r.data_energy + r.area_energy;
+  if (vis)
+    for (std::int32_t c = 0; c < C; ++c) r.visibility_energy += r.inside[c] ? unary_out[c] : unary_in[c];
+  r.energy = r.data_energy + r.area_energy + r.visibility_energy;
   return r;
 }
 

@@ -23,6 +23,13 @@ enum Label : std::int8_t { kExterior = -1, kFree = 0, kInterior = 1 };
 struct CutOptions {
   double lambda = 1.0;
   double sigma = 0.1;
+  // Optional visibility term (an extension of the paper; 0 = the paper's graph): a free
+  // cell c pays beta * s_c * inside_evidence[c] when it ends outside and
+  // beta * s_c * outside_evidence[c] when it ends inside, with s_c = volume^(2/3) (an area,
+  // like the face costs). It keeps the cut from shrinking onto a few interior seeds.
+  double beta = 0.0;
+  const std::vector<float>* inside_evidence = nullptr;
+  const std::vector<float>* outside_evidence = nullptr;
 };
 
 struct CutResult {
@@ -31,6 +38,7 @@ struct CutResult {
   double data_energy = 0;            // its data part
   double area_energy = 0;            // its lambda * area part
   double cut_area = 0;               // total area of the cut faces
+  double visibility_energy = 0;      // the optional visibility term's part of the energy
   double max_flow = 0;               // the flow found (equals energy minus fixed costs)
   std::int64_t cut_faces = 0;
   std::int64_t graph_nodes = 0, graph_edges = 0;  // after contraction, both directions

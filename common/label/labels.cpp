@@ -176,11 +176,17 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, cons
   const auto depth = q_depth_maps(s, q, cell);
   const double margin = o.depth_margin * cell;
   std::vector<std::int8_t> decided(C, 0);
+  std::vector<std::uint8_t> is_candidate(C, 0);
+  for (std::int32_t c : candidates) is_candidate[c] = 1;
+  r.inside_evidence.assign(C, 0.0f);
+  r.outside_evidence.assign(C, 0.0f);
+  // Every free cell gets soft evidence (for the cut's optional visibility term); the
+  // inactive candidates also get hard labels.
 #pragma omp parallel for schedule(dynamic, 256)
-  for (std::size_t i = 0; i < candidates.size(); ++i) {
-    const std::int32_t c = candidates[i];
+  for (std::int32_t c = 0; c < C; ++c) {
+    if (r.label[c] != 0) continue;
     const Eigen::Vector3d X = m.cell_centroid(c);
-    int sandwiched = 0, free_space = 0, beyond = 0;
+    int sandwiched = 0, free_space = 0, beyond = 0, seen = 0, outside_views = 0;
     for (int v = 0; v < s.size(); ++v) {
       const Camera& cam = s.cams[v];
       const double z = cam.depth(X);
@@ -189,10 +195,18 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, cons
       const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
       if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
       const float df = depth.front[v].at<float>(w, u), db = depth.back[v].at<float>(w, u);
-      if (df != 0 && z < df - margin) ++free_space;
-      if (db != 0 && z > db + margin) ++beyond;
+      const bool is_free = df != 0 && z < df - margin, is_beyond = db != 0 && z > db + margin;
+      free_space += is_free;
+      beyond += is_beyond;
+      outside_views += is_free || is_beyond;
       if (df != 0 && db != 0 && z > df + margin && z < db - margin) ++sandwiched;
+      ++seen;
     }
+    if (seen > 0) {
+      r.inside_evidence[c] = static_cast<float>(sandwiched) / seen;
+      r.outside_evidence[c] = static_cast<float>(outside_views) / seen;
+    }
+    if (!is_candidate[c]) continue;
     // interior cells must lie wholly inside every silhouette (corners; outside an image is fine)
     bool in_hull = true;
     for (int k = 0; k < 4 && in_hull; ++k) {

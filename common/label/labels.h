@@ -50,6 +50,10 @@ struct Result {
   std::vector<std::int8_t> label;    // per cell: 1 interior, -1 exterior, 0 free
   std::vector<std::uint8_t> reason;  // Reason
   std::vector<std::int32_t> votes;
+  // Soft evidence per free cell, in [0, 1]: the share of the views (where the cell
+  // projects) in which it lies between Q's visible and far sides (inside), or in front of
+  // the visible side / beyond the far side (outside). Used by the cut's visibility term.
+  std::vector<float> inside_evidence, outside_evidence;
   double low_votes = 0, high_votes = 0;  // the percentile values
   std::int64_t interior = 0, exterior = 0, hull_exterior = 0, boundary = 0, voted_out = 0;
   std::int64_t rays = 0;

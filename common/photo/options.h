@@ -18,9 +18,14 @@ struct Options {
   int mu = 11;             // patch size in samples: 1 x mu line (points), mu x mu grid (faces)
   int k = 5;               // cameras used per patch (the best k within the cone)
   double cone_deg = 60.0;  // max angle between the patch normal and the direction to a camera
-  double T = 0.6;          // a point is photo-consistent when its score > T
+  double T = 0.9;          // a point is photo-consistent when its score > T (docs/photoconsist.md)
   double min_std = 1e-3;   // patches whose grey std is below this are "constant": NCC = 0
   bool use_silhouettes = false;  // drop a view when the patch centre is outside its silhouette
+  // When fewer than k views are usable, score with the m usable ones (k' = max(m/2, 3),
+  // defined for m >= 4) instead of leaving the patch undefined below k'+1 views. Lets a
+  // large k (wide baselines on dense rings) degrade gracefully on sparse camera sets.
+  // Set by photoconsist for its lattice points (photo.line_k); off by default.
+  bool adaptive_k = false;
 
   // k' = max(k/2, 3): each camera's score is the mean of its best k' NCCs.
   int k_prime() const { return std::max(k / 2, 3); }

@@ -43,7 +43,8 @@ void score_prepared(const Views& views, const Eigen::Vector3d& n, const Eigen::V
                     const Eigen::Vector3d* a2, const Options& opts, Scratch& s, PatchResult& out) {
   out = PatchResult{};
   const int m = gather_candidates(views, n, opts, s);
-  const int k = opts.k, kp = opts.k_prime(), need = kp + 1;
+  const int k = opts.k, need = opts.adaptive_k ? std::min(opts.k_prime() + 1, 4) : opts.k_prime() + 1;
+  int kp = opts.k_prime();
   const int top = std::min(m, k);
   double spacing = std::numeric_limits<double>::infinity();
   for (int i = 0; i < top; ++i) {
@@ -75,6 +76,7 @@ void score_prepared(const Views& views, const Eigen::Vector3d& n, const Eigen::V
     s.views[used++] = v;
   }
   if (used < need) return;
+  if (opts.adaptive_k && used < k) kp = std::max(used / 2, 3);
 
   // Pairwise NCC (symmetric).
   float* C = s.corr.data();

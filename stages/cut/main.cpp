@@ -46,6 +46,17 @@ int main(int argc, char** argv) {
     cut::CutOptions opt;
     opt.lambda = ctx.params.d("cut.lambda");
     opt.sigma = ctx.params.d("cut.sigma");
+    opt.beta = ctx.params.d("cut.visibility_weight");
+    std::vector<float> in_ev, out_ev;
+    if (opt.beta > 0 && lf.has("/cells/inside_evidence") && lf.has("/cells/outside_evidence")) {
+      in_ev = lf.read<float>("/cells/inside_evidence", {C}).data;
+      out_ev = lf.read<float>("/cells/outside_evidence", {C}).data;
+      for (std::int64_t c = 0; c < C; ++c)
+        require(in_ev[c] >= 0 && in_ev[c] <= 1 && out_ev[c] >= 0 && out_ev[c] <= 1, labels_file,
+                ": evidence values must lie in [0, 1]");
+      opt.inside_evidence = &in_ev;
+      opt.outside_evidence = &out_ev;
+    }
     info("cut: ", C, " cells, ", F, " faces, lambda ", opt.lambda, ", sigma ", opt.sigma);
     const cut::CutResult r = cut::min_cut(mesh, omega.data, labels.data, opt);
     require(r.cut_faces > 0, labels_file, ": the cut is empty (no interior cells survive); check the labels");
@@ -62,6 +73,7 @@ int main(int argc, char** argv) {
     f.set_attr("/", "data_energy", r.data_energy);
     f.set_attr("/", "area_energy", r.area_energy);
     f.set_attr("/", "cut_area", r.cut_area);
+    f.set_attr("/", "visibility_energy", r.visibility_energy);
     f.set_attr("/", "max_flow", r.max_flow);
     f.set_attr("/", "cut_faces", r.cut_faces);
     f.set_attr("/", "graph_nodes", r.graph_nodes);

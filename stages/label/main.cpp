@@ -48,6 +48,8 @@ int main(int argc, char** argv) {
     f.write("/cells/label", r.label);
     f.write("/cells/reason", r.reason);
     f.write("/cells/votes", r.votes);
+    f.write("/cells/inside_evidence", r.inside_evidence);
+    f.write("/cells/outside_evidence", r.outside_evidence);
     f.set_attr("/", "low_votes", r.low_votes);
     f.set_attr("/", "high_votes", r.high_votes);
     f.set_attr("/", "interior", r.interior);

@@ -142,6 +142,8 @@ int main(int argc, char** argv) {
     f.write("/cells/label", r.label);
     f.write("/cells/reason", r.reason);
     f.write("/cells/votes", votes.data);
+    for (const char* d : {"/cells/inside_evidence", "/cells/outside_evidence"})  // for the cut's visibility term
+      if (lf.has(d)) f.write(d, lf.read<float>(d, {C}).data);
     for (const char* a : {"low_votes", "high_votes"})
       if (lf.has_attr("/", a)) f.set_attr("/", a, lf.attr_double("/", a));
     for (const char* a : {"rays", "boundary", "hull_exterior", "voted_out"})

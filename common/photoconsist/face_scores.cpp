@@ -1,0 +1,66 @@
+#include "common/photoconsist/face_scores.h"
+
+#include "common/error.h"
+#include "common/log.h"
+#include "common/photo/face_score.h"
+
+namespace tetmvs::photoconsist {
+
+std::vector<std::uint8_t> faces_to_score(const tet::TetMesh& m) {
+  const std::int32_t C = m.num_cells();
+  require(static_cast<std::int32_t>(m.cell_new_red.size()) == C, "photoconsist: the mesh has no cell_new_red flags");
+  std::vector<std::uint8_t> near(C, 0);
+  for (std::int32_t c = 0; c < C; ++c) {
+    if (!m.cell_new_red[c]) continue;
+    near[c] = 1;
+    for (int j = 0; j < 4; ++j) {
+      const std::int32_t o = m.neighbour(c, j);
+      if (o >= 0) near[o] = 1;
+    }
+  }
+  std::vector<std::uint8_t> sel(m.num_faces(), 0);
+  for (std::int32_t c = 0; c < C; ++c)
+    if (near[c])
+      for (int j = 0; j < 4; ++j) sel[m.cell_face[c][j]] = 1;
+  return sel;
+}
+
+ScoresResult score_faces(const tet::TetMesh& m, const photo::Views& views, const HullTest& hull,
+                         const photo::Options& opts, const std::vector<std::uint8_t>& selected, bool progress) {
+  const std::int32_t F = m.num_faces();
+  require(static_cast<std::int32_t>(selected.size()) == F, "photoconsist: face selection has ", selected.size(),
+          " flags for ", F, " faces");
+  ScoresResult R;
+  R.omega.assign(2 * static_cast<std::size_t>(F), 0.f);
+  std::vector<std::int32_t> list;
+  for (std::int32_t f = 0; f < F; ++f)
+    if (selected[f]) list.push_back(f);
+  R.scored_faces = static_cast<std::int64_t>(list.size());
+  std::vector<std::uint8_t> outside(list.size(), 0), defined(list.size(), 0);
+  Progress bar("photoconsist face scores", progress ? R.scored_faces : 0);
+#pragma omp parallel
+  {
+    photo::Scratch scratch;
+#pragma omp for schedule(dynamic, 64)
+    for (std::int64_t q = 0; q < R.scored_faces; ++q) {
+      const std::int32_t f = list[q];
+      const auto fv = m.face_vertices(f);
+      const Eigen::Vector3d a = m.vertex(fv[0]), b = m.vertex(fv[1]), c = m.vertex(fv[2]);
+      if (!hull.inside((a + b + c) / 3.0)) {
+        outside[q] = 1;
+      } else {
+        const photo::PatchResult p0 = photo::face_patch(views, a, b, c, opts, scratch);
+        const photo::PatchResult p1 = photo::face_patch(views, a, c, b, opts, scratch);
+        R.omega[2 * static_cast<std::size_t>(f)] = p0.omega();
+        R.omega[2 * static_cast<std::size_t>(f) + 1] = p1.omega();
+        defined[q] = static_cast<std::uint8_t>(p0.valid() + p1.valid());
+      }
+      bar.tick();
+    }
+  }
+  bar.done();
+  for (std::size_t q = 0; q < list.size(); ++q) R.outside_hull += outside[q], R.defined += defined[q];
+  return R;
+}
+
+}  // namespace tetmvs::photoconsist

@@ -1,0 +1,34 @@
+// Visual-hull test for lattice points and faces: a point is outside the hull when, in
+// some view with a silhouette, it lies in front of the camera, projects inside the image
+// and falls outside that silhouette dilated by a margin (pixels). Views without a
+// silhouette and views the point projects outside of never exclude it. The true surface
+// is inside the hull, so points outside it cannot be on the surface.
+#pragma once
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "common/photo/views.h"
+
+namespace tetmvs::photoconsist {
+
+class HullTest {
+ public:
+  HullTest() = default;
+  // sil: one (possibly empty) CV_8U mask per view (255 = object), as in Scene::sil.
+  HullTest(const photo::Views& views, const std::vector<cv::Mat>& sil, double margin_px);
+  bool inside(const Eigen::Vector3d& X) const;
+  // True when every point of triangle (a, b, c) is outside the hull: in some view with a
+  // silhouette, the triangle is in front and projects inside the image, and the bounding
+  // box of its projection holds no (dilated) silhouette pixel. False means "maybe".
+  bool triangle_outside(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) const;
+  int num_silhouettes() const { return static_cast<int>(idx_.size()); }
+
+ private:
+  const photo::Views* views_ = nullptr;
+  std::vector<int> idx_;          // views with a silhouette
+  std::vector<cv::Mat> dilated_;  // their dilated silhouettes
+  std::vector<cv::Mat> integral_; // integral images (CV_32S) of dilated_ != 0
+};
+
+}  // namespace tetmvs::photoconsist

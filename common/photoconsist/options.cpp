@@ -1,0 +1,64 @@
+#include "common/photoconsist/options.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "common/error.h"
+#include "common/params.h"
+
+namespace tetmvs::photoconsist {
+
+std::int64_t CrossingRule::needed(std::int64_t n) const {
+  const auto frac = static_cast<std::int64_t>(std::ceil(fraction * static_cast<double>(n) - 1e-9));
+  const std::int64_t c = use_max ? std::max<std::int64_t>(frac, points) : std::min<std::int64_t>(frac, points);
+  return std::max<std::int64_t>({c, min_points_abs, 1});
+}
+
+void CrossingRule::check() const {
+  require(fraction >= 0 && fraction <= 1, "photoconsist: photo.cross_fraction = ", fraction,
+          " must lie in [0, 1]");
+  require(points >= 1, "photoconsist: photo.cross_points = ", points, " must be >= 1");
+  require(min_points_abs >= 1, "photoconsist: photo.cross_min = ", min_points_abs, " must be >= 1");
+}
+
+void Options::check() const {
+  line.check();
+  face.check();
+  require(lattice_px > 0 && std::isfinite(lattice_px), "photoconsist: photo.lattice_px = ", lattice_px,
+          " must be > 0");
+  require(hull_margin_px >= 0 && hull_margin_px <= 100, "photoconsist: photo.hull_margin_px = ",
+          hull_margin_px, " must lie in [0, 100]");
+  rule.check();
+}
+
+Options Options::from_params(const Params& p) {
+  Options o;
+  o.face = photo::Options::from_params(p);
+  o.line = o.face;
+  o.line.mu = p.i("photo.line_mu");
+  if (p.i("photo.line_k") > 0) o.line.k = p.i("photo.line_k");
+  o.line.adaptive_k = true;
+  o.line.T = p.d("photo.T");
+  o.lattice_px = p.d("photo.lattice_px");
+  o.hull_margin_px = p.d("photo.hull_margin_px");
+  o.rule.fraction = p.d("photo.cross_fraction");
+  o.rule.points = p.i("photo.cross_points");
+  o.rule.min_points_abs = p.i("photo.cross_min");
+  const std::string r = p.s("photo.cross_rule");
+  require(r == "min" || r == "max", "photoconsist: photo.cross_rule = '", r, "' must be 'min' or 'max'");
+  o.rule.use_max = r == "max";
+  o.check();
+  return o;
+}
+
+std::string Options::cache_signature() const {
+  std::ostringstream os;
+  os.precision(17);
+  os << "line_mu=" << line.mu << " k=" << line.k << " cone=" << line.cone_deg << " T=" << line.T
+     << " min_std=" << line.min_std << " sil=" << line.use_silhouettes << " adaptive_k=" << line.adaptive_k << " lattice_px=" << lattice_px
+     << " hull_margin_px=" << hull_margin_px;
+  return os.str();
+}
+
+}  // namespace tetmvs::photoconsist

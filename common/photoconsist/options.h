@@ -1,0 +1,47 @@
+// Options of the photoconsist stage (paper sections 2.3 and 3.1, docs/photoconsist.md):
+// the measure's options for lattice points (1 x line_mu line) and for face scores
+// (mu x mu grid), the lattice density, the visual-hull margin and the crossing-face rule.
+// Validated up front by check().
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "common/photo/options.h"
+
+namespace tetmvs {
+class Params;
+
+namespace photoconsist {
+
+// The crossing-face rule: a face with N lattice points inside the visual hull, c of them
+// photo-consistent, is crossing when
+//   c >= min_points_abs  and  c >= combine(ceil(fraction * N), points)
+// where combine is min ("min" rule: the reading of the paper's sentence that works on large
+// coarse faces) or max ("max" rule). See docs/photoconsist.md for the measurements.
+struct CrossingRule {
+  double fraction = 0.2;  // photo.cross_fraction
+  int points = 20;        // photo.cross_points
+  bool use_max = false;   // photo.cross_rule == "max"
+  int min_points_abs = 1; // photo.cross_min
+  // Consistent points needed on a face with n_samples points inside the hull (>= 1).
+  std::int64_t needed(std::int64_t n_samples) const;
+  bool crossing(std::int64_t consistent, std::int64_t n_samples) const {
+    return n_samples > 0 && consistent >= needed(n_samples);
+  }
+  void check() const;
+};
+
+struct Options {
+  photo::Options line;        // lattice points: mu = photo.line_mu, k = photo.line_k (0: photo.k)
+  photo::Options face;        // face scores: mu = photo.mu (the mu x mu grid)
+  double lattice_px = 1.0;    // photo.lattice_px: max projected spacing of lattice points
+  double hull_margin_px = 2;  // photo.hull_margin_px: silhouettes dilated by this for the hull test
+  CrossingRule rule;
+  void check() const;
+  static Options from_params(const Params& p);
+  // Values that must agree between a cache and the run reusing it.
+  std::string cache_signature() const;
+};
+
+}  // namespace photoconsist
+}  // namespace tetmvs

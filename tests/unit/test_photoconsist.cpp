@@ -1,0 +1,454 @@
+// Tests of the photoconsist stage's library (common/photoconsist/): lattices and their
+// quad-tree reuse, the cache file, the crossing rule, and the level and score passes on
+// a small synthetic scene (torus, 16 ring cameras, 320 x 240) against its ground truth.
+#include <gtest/gtest.h>
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include "common/error.h"
+#include "common/h5io.h"
+#include "common/ingest/dataset.h"
+#include "common/params.h"
+#include "common/photo/face_score.h"
+#include "common/photo/lattice.h"
+#include "common/photoconsist/face_cache.h"
+#include "common/photoconsist/face_lattice.h"
+#include "common/photoconsist/face_scores.h"
+#include "common/photoconsist/files.h"
+#include "common/photoconsist/ground_truth.h"
+#include "common/photoconsist/level_pass.h"
+#include "common/ply.h"
+#include "common/synth/scene.h"
+#include "common/tetmesh/refine.h"
+
+using namespace tetmvs;
+namespace pc = tetmvs::photoconsist;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path temp_dir(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("tetmvs_test_pc_" + name + "_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+}  // namespace
+
+TEST(PhotoconsistLattice, ReusableDivisions) {
+  const int want[][2] = {{1, 1}, {2, 2}, {3, 3}, {4, 4}, {5, 6}, {6, 6}, {7, 8}, {9, 12},
+                         {12, 12}, {13, 16}, {17, 24}, {25, 32}, {33, 48}, {49, 64}};
+  for (const auto& w : want) EXPECT_EQ(pc::reusable_divisions(w[0]), w[1]) << w[0];
+  for (int need = 1; need < 3000; ++need) {
+    const int n = pc::reusable_divisions(need);
+    EXPECT_GE(n, need);
+    EXPECT_LE(2 * n, 3 * need) << need;  // at most 3/2 of the need
+    int odd = n;
+    while (odd % 2 == 0) odd /= 2;
+    EXPECT_TRUE(odd == 1 || odd == 3) << n;
+  }
+}
+
+TEST(PhotoconsistLattice, IndexMatchesTriangleLattice) {
+  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  for (int n : {1, 2, 5, 8}) {
+    std::vector<Eigen::Vector3d> pts;
+    photo::triangle_lattice(a, b, c, n, pts);
+    ASSERT_EQ(static_cast<std::int64_t>(pts.size()), pc::lattice_size(n));
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i + j <= n; ++i) {
+        const Eigen::Vector3d& p = pts[pc::lattice_index(n, i, j)];
+        EXPECT_NEAR(p.x(), static_cast<double>(i) / n, 1e-12);
+        EXPECT_NEAR(p.y(), static_cast<double>(j) / n, 1e-12);
+      }
+  }
+}
+
+namespace {
+Eigen::Vector3d lat_point(const pc::FaceLat& L, int n, int i, int j) {
+  Eigen::Vector3d a(L[0], L[1], L[2]), b(L[3], L[4], L[5]), c(L[6], L[7], L[8]);
+  return a + (static_cast<double>(i) / n) * (b - a) + (static_cast<double>(j) / n) * (c - a);
+}
+pc::FaceLat tri(const Eigen::Vector3i& a, const Eigen::Vector3i& b, const Eigen::Vector3i& c) {
+  return {a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), c.x(), c.y(), c.z()};
+}
+}  // namespace
+
+TEST(PhotoconsistLattice, SubLatticeOfQuartersAndWhole) {
+  const Eigen::Vector3i A(0, 0, 0), B(64, 16, 8), C(8, 64, 32);
+  const pc::FaceLat P = tri(A, B, C);
+  const Eigen::Vector3i AB = (A + B) / 2, BC = (B + C) / 2, CA = (C + A) / 2;
+  // The four quarters (in several vertex orders) and the whole face (permuted).
+  const std::vector<pc::FaceLat> children = {tri(A, AB, CA), tri(AB, B, BC), tri(CA, BC, C), tri(AB, BC, CA),
+                                             tri(BC, AB, CA), tri(CA, A, AB), tri(C, A, B), tri(B, A, C)};
+  for (int n : {2, 6, 8, 12}) {
+    for (std::size_t k = 0; k < children.size(); ++k) {
+      int cn = 0;
+      std::vector<std::int64_t> idx;
+      ASSERT_TRUE(pc::map_sub_lattice(P, n, children[k], &cn, idx)) << "child " << k << " n " << n;
+      EXPECT_EQ(cn, k < 6 ? n / 2 : n);
+      ASSERT_EQ(static_cast<std::int64_t>(idx.size()), pc::lattice_size(cn));
+      // Every child point is the parent point the index names.
+      std::int64_t p = 0;
+      for (int j = 0; j <= cn; ++j)
+        for (int i = 0; i + j <= cn; ++i, ++p) {
+          const Eigen::Vector3d x = lat_point(children[k], cn, i, j);
+          int pj = 0;
+          std::int64_t q = idx[p];
+          while (q > n - pj) q -= n - pj + 1, ++pj;
+          EXPECT_LT((x - lat_point(P, n, static_cast<int>(q), pj)).norm(), 1e-9);
+        }
+    }
+  }
+  int cn = 0;
+  std::vector<std::int64_t> idx;
+  EXPECT_FALSE(pc::map_sub_lattice(P, 3, tri(A, AB, CA), &cn, idx));   // odd n cannot be halved
+  EXPECT_FALSE(pc::map_sub_lattice(P, 4, tri(A, AB, C), &cn, idx));    // half of the face (a green split)
+  EXPECT_FALSE(pc::map_sub_lattice(P, 4, tri(A, AB, Eigen::Vector3i(1, 2, 3)), &cn, idx));
+}
+
+TEST(PhotoconsistLattice, PointCodes) {
+  photo::Options o;
+  o.T = 0.6;
+  photo::PointResult r;
+  EXPECT_EQ(pc::encode_point(r, o), pc::kCodeNoScore);
+  r.ref = 0;
+  for (float s : {-1.f, -0.3f, 0.f, 0.59f, 0.6f, 0.6001f, 0.95f, 1.f}) {
+    r.score = s;
+    const std::uint16_t c = pc::encode_point(r, o);
+    EXPECT_TRUE(pc::code_is_sample(c));
+    EXPECT_EQ(pc::code_is_consistent(c), static_cast<double>(s) > o.T) << s;
+    EXPECT_NEAR(pc::code_score(c), s, 1e-4);
+  }
+  // The best code is the best consistent point: any consistent code beats any other.
+  r.score = 0.61f;
+  const auto lo_cons = pc::encode_point(r, o);
+  r.score = 0.6f;
+  const auto hi_incons = pc::encode_point(r, o);
+  EXPECT_GT(lo_cons, hi_incons);
+  EXPECT_EQ(pc::code_score(pc::kCodeOutside), photo::kNoScore);
+}
+
+TEST(PhotoconsistRule, MinAndMax) {
+  pc::CrossingRule r;  // 20 %, 20 points, min, at least 1
+  r.min_points_abs = 1;
+  EXPECT_EQ(r.needed(15), 3);      // 20 % of 15 -> 3
+  EXPECT_EQ(r.needed(100), 20);    // 20 % = 20
+  EXPECT_EQ(r.needed(1225), 20);   // large face: 20 points, not 245
+  EXPECT_TRUE(r.crossing(20, 1225));
+  EXPECT_FALSE(r.crossing(19, 1225));
+  EXPECT_FALSE(r.crossing(0, 0));
+  r.use_max = true;
+  EXPECT_EQ(r.needed(15), 20);
+  EXPECT_EQ(r.needed(1225), 245);
+  r.use_max = false;
+  r.min_points_abs = 2;
+  EXPECT_EQ(r.needed(3), 2);  // never a single point
+  EXPECT_FALSE(r.crossing(1, 3));
+}
+
+TEST(PhotoconsistRule, OptionsFromParamsAndChecks) {
+  Params p = Params::defaults();
+  const pc::Options o = pc::Options::from_params(p);
+  EXPECT_EQ(o.line.mu, p.i("photo.line_mu"));
+  EXPECT_EQ(o.face.mu, p.i("photo.mu"));
+  p.set("photo.cross_rule=maybe");
+  EXPECT_THROW(pc::Options::from_params(p), tetmvs::Error);
+  pc::Options bad = o;
+  bad.lattice_px = 0;
+  EXPECT_THROW(bad.check(), tetmvs::Error);
+}
+
+TEST(PhotoconsistCache, FileRoundTrip) {
+  const fs::path d = temp_dir("cache");
+  pc::FaceCache c;
+  c.level = 2;
+  c.lattice = {0.5, 1, 2, 0.25, 8, 9, 10};
+  c.signature = "sig";
+  std::vector<std::uint16_t> a(pc::lattice_size(2), 7), b(pc::lattice_size(4), 0x8123);
+  c.append(3, tri(Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(4, 0, 0), Eigen::Vector3i(0, 4, 0)), 2, a.data());
+  c.append(10, tri(Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(8, 0, 0), Eigen::Vector3i(0, 8, 0)), 4, b.data());
+  EXPECT_THROW(c.append(5, pc::FaceLat{}, 1, a.data()), tetmvs::Error);  // not ascending
+  {
+    auto f = h5::File::create(d / "c.h5");
+    pc::write_face_cache(f, c);
+    f.commit();
+  }
+  const auto f = h5::File::open(d / "c.h5");
+  const pc::FaceCache r = pc::read_face_cache(f);
+  EXPECT_EQ(r.face, c.face);
+  EXPECT_EQ(r.vlat, c.vlat);
+  EXPECT_EQ(r.divisions, c.divisions);
+  EXPECT_EQ(r.offsets, c.offsets);
+  EXPECT_EQ(r.codes, c.codes);
+  EXPECT_EQ(r.level, 2);
+  EXPECT_EQ(r.signature, "sig");
+  EXPECT_EQ(r.find(10), 1);
+  EXPECT_EQ(r.find(4), -1);
+  EXPECT_EQ(r.codes_of(1)[0], 0x8123);
+  tet::Lattice lat;
+  lat.origin = {0.5, 1, 2};
+  lat.h = 0.25;
+  lat.dims = {8, 9, 10};
+  EXPECT_TRUE(r.compatible(lat, "sig", nullptr));
+  std::string why;
+  EXPECT_FALSE(r.compatible(lat, "other", &why));
+  EXPECT_NE(why.find("other options"), std::string::npos);
+  lat.h = 0.5;
+  EXPECT_FALSE(r.compatible(lat, "sig", &why));
+  fs::remove_all(d);
+}
+
+// ---------------------------------------------------------------------------------------
+// The synthetic scene: a textured torus seen by 16 ring cameras (320 x 240), a coarse
+// BCC mesh (8 cubes along the box), built once for all the scene tests.
+namespace {
+
+struct SceneFixture {
+  Scene scene;
+  TriMesh gt_mesh;
+  std::unique_ptr<pc::GroundTruth> gt;
+  std::unique_ptr<photo::Views> views;
+  std::unique_ptr<pc::HullTest> hull;
+  pc::Options opts;
+  tet::TetMesh m0;
+  pc::LevelResult r0;
+  tet::TetMesh m1;
+  pc::LevelResult r1;
+
+  SceneFixture() {
+    const fs::path dir = temp_dir("scene");
+    synth::SynthConfig c;
+    c.object = "torus";
+    c.cameras = "ring";
+    c.views = 16;
+    c.width = 320;
+    c.height = 240;
+    synth::synthesize(c, dir);
+    Params p = Params::defaults();
+    scene = read_dataset(dir, p);
+    scene.load_grey();
+    gt_mesh = read_ply(dir / "gt.ply");
+    gt = std::make_unique<pc::GroundTruth>(gt_mesh);
+    views = std::make_unique<photo::Views>(scene.cams, scene.grey, scene.sil);
+    p.set("photo.T=0.8");  // a 16-view ring: docs/photoconsist.md (0.9 is for 48-view rings)
+    opts = pc::Options::from_params(p);
+    hull = std::make_unique<pc::HullTest>(*views, scene.sil, opts.hull_margin_px);
+    m0 = tet::build_bcc(tet::lattice_for_box(scene.box, 8));
+    r0 = run(m0, nullptr);
+    m1 = tet::refine(m0, r0.active);
+    r1 = run(m1, &r0.cache);
+    fs::remove_all(dir);
+  }
+  pc::LevelResult run(const tet::TetMesh& m, const pc::FaceCache* prev, bool keep_all = false) const {
+    pc::LevelInput in;
+    in.mesh = &m;
+    in.views = views.get();
+    in.hull = hull.get();
+    in.prev = prev;
+    in.keep_all = keep_all;
+    in.progress = false;
+    return pc::run_level(in, opts);
+  }
+};
+
+const SceneFixture& fixture() {
+  static const SceneFixture f;
+  return f;
+}
+
+}  // namespace
+
+TEST(PhotoconsistScene, Level0FindsTheSurface) {
+  const auto& F = fixture();
+  const double cs = tet::red_edge_length(F.m0.lat, 0);
+  const pc::LevelEval E = pc::evaluate_level(F.m0, F.r0, *F.gt, cs);
+  std::printf("level 0: tested %lld, gt crossed %lld, found %lld (recall %.3f), crossing %lld, near %lld "
+              "(precision %.3f), cell recall %.3f, active %lld/%d, points within a cell %.3f\n",
+              (long long)E.tested, (long long)E.gt_crossed, (long long)E.found, E.recall(), (long long)E.crossing,
+              (long long)E.crossing_near, E.precision(), E.cell_recall(), (long long)F.r0.active_cells,
+              F.m0.num_cells(), E.points_accuracy());
+  EXPECT_EQ(E.tested, F.m0.num_faces());  // level 0: every face
+  EXPECT_GT(E.gt_crossed, 100);
+  EXPECT_GE(E.recall(), 0.95);
+  EXPECT_GE(E.cell_recall(), 0.98);
+  EXPECT_GE(E.precision(), 0.9);
+  // Adaptivity: far fewer cells are active than lie inside the box.
+  EXPECT_LT(F.r0.active_cells, F.m0.num_cells() / 3);
+  // Q: one point per crossing face, near the surface, unit normals, k'+1 cameras.
+  EXPECT_EQ(F.r0.points.size(), F.r0.crossing_faces);
+  EXPECT_GE(E.points_accuracy(), 0.9);
+  for (std::int64_t p = 0; p < F.r0.points.size(); ++p) {
+    EXPECT_NEAR(F.r0.points.nrm(p).norm(), 1.0, 1e-5);
+    EXPECT_GT(F.r0.points.score[p], F.opts.line.T);
+    const auto ncams = F.r0.points.cam_offsets[p + 1] - F.r0.points.cam_offsets[p];
+    EXPECT_GE(ncams, 4);  // reference + k' >= 3 partners (adaptive k on this 16-view ring)
+    EXPECT_LE(ncams, F.opts.line.k_prime() + 1);
+  }
+}
+
+TEST(PhotoconsistScene, ActiveCellsAreTheCellsOfCrossingFaces) {
+  const auto& F = fixture();
+  std::vector<std::uint8_t> want(F.m0.num_cells(), 0);
+  for (std::size_t t = 0; t < F.r0.face.size(); ++t)
+    if (F.r0.crossing[t])
+      for (int k = 0; k < 2; ++k)
+        if (F.m0.face_cell(F.r0.face[t], k) >= 0) want[F.m0.face_cell(F.r0.face[t], k)] = 1;
+  EXPECT_EQ(F.r0.active, want);
+  // Crossing faces are exactly those the rule accepts.
+  for (std::size_t t = 0; t < F.r0.face.size(); ++t)
+    EXPECT_EQ(F.r0.crossing[t], F.opts.rule.crossing(F.r0.consistent[t], F.r0.samples[t]));
+}
+
+TEST(PhotoconsistScene, Level1ReusesTheCacheExactly) {
+  const auto& F = fixture();
+  const pc::LevelEval E = pc::evaluate_level(F.m1, F.r1, *F.gt, tet::red_edge_length(F.m1.lat, 1));
+  std::printf("level 1: tested %lld (reused %lld), recall %.3f (%lld/%lld), precision %.3f, cell recall %.3f, "
+              "scored %lld of %lld lattice points, points within a cell %.3f\n",
+              (long long)E.tested, (long long)F.r1.reused_faces, E.recall(), (long long)E.found,
+              (long long)E.gt_crossed, E.precision(), E.cell_recall(), (long long)F.r1.scored_points,
+              (long long)F.r1.lattice_points, E.points_accuracy());
+  EXPECT_GE(E.recall(), 0.95);
+  EXPECT_GE(E.precision(), 0.9);
+  EXPECT_GE(E.points_accuracy(), 0.85);
+  EXPECT_GT(F.r1.reused_faces, static_cast<std::int64_t>(F.r1.face.size()) / 4);
+  // A reused face's counts are those of scoring its lattice afresh.
+  int checked = 0;
+  photo::Scratch scratch;
+  for (std::size_t t = 0; t < F.r1.face.size() && checked < 40; ++t) {
+    if (!F.r1.reused[t] || F.r1.samples[t] == 0) continue;
+    const int n = F.r1.divisions[t];
+    const auto fv = F.m1.face_vertices(F.r1.face[t]);
+    const Eigen::Vector3d a = F.m1.vertex(fv[0]), b = F.m1.vertex(fv[1]), c = F.m1.vertex(fv[2]);
+    std::int32_t ns = 0, nc = 0;
+    std::vector<Eigen::Vector3d> pts;
+    photo::triangle_lattice(a, b, c, n, pts);
+    for (const auto& X : pts) {
+      if (!F.hull->inside(X)) continue;
+      ++ns;
+      nc += photo::score_point(*F.views, X, (b - a).cross(c - a), F.opts.line, scratch).consistent(F.opts.line);
+    }
+    EXPECT_EQ(ns, F.r1.samples[t]);
+    EXPECT_EQ(nc, F.r1.consistent[t]) << "face " << F.r1.face[t];
+    ++checked;
+  }
+  EXPECT_GT(checked, 10);
+}
+
+TEST(PhotoconsistScene, SameResultForAnyThreadCount) {
+  const auto& F = fixture();  // ran with all threads
+  const int saved = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const pc::LevelResult one = F.run(F.m1, &F.r0.cache);
+  omp_set_num_threads(saved);
+  EXPECT_EQ(one.consistent, F.r1.consistent);
+  EXPECT_EQ(one.crossing, F.r1.crossing);
+  EXPECT_EQ(one.active, F.r1.active);
+  EXPECT_EQ(one.points.position, F.r1.points.position);
+  EXPECT_EQ(one.points.cams, F.r1.points.cams);
+  EXPECT_EQ(one.cache.codes, F.r1.cache.codes);
+}
+
+TEST(PhotoconsistScene, FaceScoresSeparateInsideFromOutside) {
+  const auto& F = fixture();
+  const tet::TetMesh& m = F.m1;
+  const auto sel = pc::faces_to_score(m);
+  // Column semantics: the face_vertices normal points from face_cell(f,0) to face_cell(f,1).
+  for (std::int32_t f = 0; f < m.num_faces(); f += 97) {
+    const auto fv = m.face_vertices(f);
+    const Eigen::Vector3d n = photo::triangle_normal(m.vertex(fv[0]), m.vertex(fv[1]), m.vertex(fv[2]));
+    EXPECT_LT(n.dot(m.cell_centroid(m.face_cell(f, 0)) - m.face_centroid(f)), 0.0);
+  }
+  const pc::ScoresResult S = pc::score_faces(m, *F.views, *F.hull, F.opts.face, sel, false);
+  ASSERT_EQ(S.omega.size(), 2 * static_cast<std::size_t>(m.num_faces()));
+  // Faces near the true surface and nearly parallel to it: the column whose normal points
+  // outward scores high, the other low. Faces far from it (inside the hull) score low.
+  const double cs = tet::red_edge_length(m.lat, 1);
+  std::vector<float> out_s, in_s, far_s;
+  for (std::int32_t f = 0; f < m.num_faces(); ++f) {
+    if (!sel[f]) {
+      EXPECT_EQ(S.omega[2 * f], 0.f);
+      EXPECT_EQ(S.omega[2 * f + 1], 0.f);
+      continue;
+    }
+    const Eigen::Vector3d X = m.face_centroid(f);
+    if (!F.hull->inside(X)) continue;
+    const ClosestHit h = F.gt->bvh().closest(X);
+    const Eigen::Vector3d ngt = face_cross(F.gt_mesh, h.prim).normalized();
+    const Eigen::Vector3d nf = m.face_normal(f);  // cell 0 -> cell 1
+    if (h.dist() < 0.1 * cs && std::abs(nf.dot(ngt)) > 0.85) {
+      const int outward = nf.dot(ngt) > 0 ? 0 : 1;
+      out_s.push_back(S.omega[2 * f + outward]);
+      in_s.push_back(S.omega[2 * f + 1 - outward]);
+    } else if (h.dist() > 1.5 * cs) {
+      far_s.push_back(std::max(S.omega[2 * f], S.omega[2 * f + 1]));
+    }
+  }
+  const auto median = [](std::vector<float> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? -1.f : v[v.size() / 2];
+  };
+  std::printf("face scores: %zu on the surface (outward median %.3f, inward %.3f), %zu far (median %.3f)\n",
+              out_s.size(), median(out_s), median(in_s), far_s.size(), median(far_s));
+  ASSERT_GE(out_s.size(), 10u);
+  ASSERT_GE(far_s.size(), 50u);
+  EXPECT_GT(median(out_s), 0.7);
+  EXPECT_LT(median(in_s), 0.3);
+  EXPECT_LT(median(far_s), 0.5);
+  EXPECT_GT(median(out_s) - median(far_s), 0.3);
+}
+
+TEST(PhotoconsistScene, HullTriangleTestIsConservative) {
+  const auto& F = fixture();
+  // Every face of M0: when the triangle test says "outside", no lattice point is inside;
+  // and it does say so for most faces outside the hull (it is the fast path).
+  std::int64_t outside = 0, all_points_out = 0;
+  for (std::int32_t f = 0; f < F.m0.num_faces(); ++f) {
+    const auto fv = F.m0.face_vertices(f);
+    const Eigen::Vector3d a = F.m0.vertex(fv[0]), b = F.m0.vertex(fv[1]), c = F.m0.vertex(fv[2]);
+    std::vector<Eigen::Vector3d> pts;
+    photo::triangle_lattice(a, b, c, 6, pts);
+    bool any_in = false;
+    for (const auto& X : pts) any_in = any_in || F.hull->inside(X);
+    const bool tri_out = F.hull->triangle_outside(a, b, c);
+    if (tri_out) {
+      ++outside;
+      EXPECT_FALSE(any_in) << "face " << f;
+    }
+    all_points_out += !any_in;
+  }
+  EXPECT_GT(outside, all_points_out / 2);
+}
+
+TEST(PhotoconsistScene, AdaptiveKScoresWithTheCamerasThereAre) {
+  // 16 ring views: a 60 degree cone holds about 5 of them, fewer than the 7 that line_k = 12
+  // needs (k' = 6); adaptive k scores with the usable ones instead of leaving points undefined.
+  const auto& F = fixture();
+  photo::Options o = F.opts.line;
+  o.k = 12;
+  photo::Scratch scratch;
+  int defined_fixed = 0, defined_adaptive = 0, n = 0;
+  for (std::size_t f = 0; f < F.gt_mesh.F.size(); f += F.gt_mesh.F.size() / 50, ++n) {
+    const auto& t = F.gt_mesh.F[f];
+    const Eigen::Vector3d X = (F.gt_mesh.V[t[0]] + F.gt_mesh.V[t[1]] + F.gt_mesh.V[t[2]]) / 3.0;
+    const Eigen::Vector3d nf = face_cross(F.gt_mesh, f).normalized().unitOrthogonal();
+    o.adaptive_k = false;
+    defined_fixed += photo::score_point(*F.views, X, nf, o, scratch).valid();
+    o.adaptive_k = true;
+    const photo::PointResult r = photo::score_point(*F.views, X, nf, o, scratch);
+    defined_adaptive += r.valid();
+    if (r.valid()) {
+      EXPECT_GE(r.num_views, 4);
+      EXPECT_EQ(r.num_partners, r.num_views >= 12 ? 6 : std::max(r.num_views / 2, 3));
+    }
+  }
+  std::printf("adaptive k: %d of %d surface points defined with k = 12 fixed, %d adaptive\n", defined_fixed, n,
+              defined_adaptive);
+  EXPECT_GT(defined_adaptive, defined_fixed + n / 10);
+  EXPECT_GT(defined_adaptive, 9 * n / 10);
+}
