@@ -10,6 +10,7 @@
 # changing one reruns exactly the stages that use it and those after them.
 
 SHELL := /bin/bash
+.DEFAULT_GOAL := all
 .SUFFIXES:
 .DELETE_ON_ERROR:
 MAKEFLAGS += --no-builtin-rules
