@@ -220,7 +220,8 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, cons
     const int votes = r.votes[c];
     if (in_hull && votes <= r.low_votes && free_space == 0 && beyond == 0 && sandwiched >= o.min_occluding_views)
       decided[c] = 1;
-    else if (votes > r.high_votes && votes >= o.min_exterior_votes && free_space > 0) decided[c] = -1;
+    else if (votes > r.high_votes && votes >= o.min_exterior_votes && free_space >= 2 && sandwiched == 0)
+      decided[c] = -1;
   }
   for (std::int32_t c : candidates) {
     if (decided[c] == 1) {

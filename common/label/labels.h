@@ -6,7 +6,8 @@
 //            projected cell (a disc around it) lies inside the image and outside the
 //            silhouette (parts outside an image never carve);
 //            inactive cells whose visibility votes exceed the upper percentile, that are
-//            seen as free space (in front of Q by a margin) in some view.
+//            seen as free space (in front of Q by a margin) in at least two views and lie
+//            between Q's near and far sides in none.
 //  interior  inactive cells inside the hull whose votes are at most the lower percentile
 //            AND that lie between Q's near and far sides: in at least `min_occluding_views`
 //            views the cell is behind the points Q visible in that view and in front of the

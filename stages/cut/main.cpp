@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "common/cut/cleanup.h"
 #include "common/cut/graph_cut.h"
 #include "common/cut/surface.h"
 #include "common/error.h"
@@ -58,7 +59,9 @@ int main(int argc, char** argv) {
       opt.outside_evidence = &out_ev;
     }
     info("cut: ", C, " cells, ", F, " faces, lambda ", opt.lambda, ", sigma ", opt.sigma);
-    const cut::CutResult r = cut::min_cut(mesh, omega.data, labels.data, opt);
+    cut::CutResult r = cut::min_cut(mesh, omega.data, labels.data, opt);
+    const cut::CleanupStats cs =
+        cut::clean_up_regions(mesh, labels.data, r.inside, ctx.params.d("cut.min_region_fraction"));
     require(r.cut_faces > 0, labels_file, ": the cut is empty (no interior cells survive); check the labels");
     cut::SurfaceStats st;
     std::vector<std::int32_t> face_ids;
@@ -80,6 +83,8 @@ int main(int argc, char** argv) {
     f.set_attr("/", "graph_edges", r.graph_edges);
     f.set_attr("/", "graph_bytes", r.graph_bytes);
     f.set_attr("/", "split_vertices", st.split_vertices);
+    f.set_attr("/", "voids_filled", cs.voids_filled);
+    f.set_attr("/", "specks_removed", cs.specks_removed);
     f.set_attr("/", "components", static_cast<std::int64_t>(chk.components.size()));
     f.set_attr("/", "closed", static_cast<std::int64_t>(chk.closed));
     f.set_attr("/", "edge_manifold", static_cast<std::int64_t>(chk.edge_manifold));
@@ -93,7 +98,8 @@ int main(int argc, char** argv) {
     std::ostringstream os;
     os << r.cut_faces << " faces, " << surface.nv() << " vertices, " << chk.components.size()
        << " components, " << (chk.closed ? "closed" : "OPEN") << ", "
-       << (chk.edge_manifold ? "edge-manifold" : "NON-MANIFOLD") << ", energy " << r.energy << " (data "
+       << (chk.edge_manifold ? "edge-manifold" : "NON-MANIFOLD") << ", " << cs.voids_filled << " voids filled, "
+       << cs.specks_removed << " specks removed, energy " << r.energy << " (data "
        << r.data_energy << ", area " << r.area_energy << "), graph " << r.graph_nodes << " nodes "
        << r.graph_edges << " edges " << r.graph_bytes / 1048576.0 << " MB";
     ctx.summary = os.str();

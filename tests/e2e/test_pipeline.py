@@ -12,6 +12,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(__file__))
 import check_schema  # noqa: E402
+import gt_inside  # noqa: E402
 import tiny_run  # noqa: E402
 
 BIN, SRC = sys.argv[1], sys.argv[2]
@@ -67,7 +68,24 @@ def main():
         if not os.path.exists(ev):
             continue
         e = json.load(open(ev))
-        print(surf, json.dumps({k: e[k] for k in e if k in ("accuracy", "completeness", "mesh")})[:600])
+        acc, comp = e["accuracy"]["value"], e["completeness"]["value"]
+        chk = e["reconstruction"]["check"]
+        print(f"{surf}: accuracy90 {acc * 1000:.3f} mm, completeness {comp * 100:.2f} %, "
+              f"components {chk['num_components']}, closed {chk['closed']}")
+        # the small CI scene: 16 views of 320x240, cells of ~2 px at level 3 (~0.8 mm)
+        expect(chk["closed"] and chk["edge_manifold"], f"{surf} is closed and edge-manifold")
+        expect(comp >= 0.90, f"{surf} completeness {comp:.3f} >= 0.90")
+        expect(acc <= 0.002, f"{surf} accuracy {acc * 1000:.2f} mm <= 2 mm")
+        big = [c for c in chk["components"] if c["faces"] > 0.05 * chk["faces"]]
+        expect(len(big) == 1 and big[0]["genus"] == 1, f"{surf}: one large component of genus 1 (torus), got {[(c['faces'], c['genus']) for c in chk['components']]}")
+    labels = os.path.join(run, "labels.h5")
+    if os.path.exists(labels):
+        L = max(int(p[5:-3]) for p in os.listdir(run) if p.startswith("mesh_") and p.endswith(".h5"))
+        gt = os.path.join(tiny_run.paths(BIN)["synth_dir"], tiny_run.SCENE, "gt.ply")
+        wi, we, ni, ne = gt_inside.label_errors(gt, os.path.join(run, f"mesh_{L}.h5"), labels)
+        print(f"labels: {wi} of {ni} sampled interior cells outside the object, {we} of {ne} exterior inside")
+        expect(ni > 0 and wi == 0, "no interior label outside the true object")
+        expect(we == 0, "no exterior label inside the true object")
     # 3. change tracking: nothing changed -> nothing reruns
     r = tiny_run.make(BIN, SRC, ["-n", target])
     expect(stages_run(r.stdout) == [], f"a second make reruns {stages_run(r.stdout)}")
