@@ -24,9 +24,9 @@ DATA      ?= synth-torus
 DATA_DIR  ?= $(firstword $(wildcard $(ROOT)/../shared/data/middlebury) $(ROOT)/data)
 SYNTH_DIR ?= $(ROOT)/data
 RUN_DIR   ?= $(ROOT)/runs/$(DATA)
-# Maximum refinement levels; refine also stops early once cells project to at most
-# refine.max_pixels pixels (parameter MAX_PIXELS).
-LEVELS    ?= 4
+# Refinement levels. 3 gives cells of about 4 px on dinoRing-sized scenes (the paper: 1-5 px);
+# LEVELS=4 gives about 2 px (`bcc-init --print-levels` computes it) but takes several times longer.
+LEVELS    ?= 3
 # Optional JSON file of parameter overrides; a dataset's examples/params/<DATA>.json by default.
 PARAMS    ?= $(wildcard $(ROOT)/examples/params/$(DATA).json)
 QUIET     ?=
