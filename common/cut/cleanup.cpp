@@ -34,7 +34,8 @@ std::int32_t regions(const tet::TetMesh& m, const std::vector<std::uint8_t>& ins
 }  // namespace
 
 CleanupStats clean_up_regions(const tet::TetMesh& m, const std::vector<std::int8_t>& labels,
-                              std::vector<std::uint8_t>& inside, double min_fraction) {
+                              std::vector<std::uint8_t>& inside, double min_fraction,
+                              const std::vector<std::uint8_t>* weak) {
   CleanupStats st;
   const std::int32_t C = m.num_cells();
   std::vector<std::int32_t> region;
@@ -63,7 +64,7 @@ CleanupStats clean_up_regions(const tet::TetMesh& m, const std::vector<std::int8
     for (std::int32_t c = 0; c < C; ++c)
       if (region[c] >= 0) {
         volume[region[c]] += m.cell_volume(c);
-        if (labels[c] > 0) seeded[region[c]] = 1;
+        if (labels[c] > 0 && !(weak && (*weak)[c])) seeded[region[c]] = 1;
       }
     const double largest = n ? *std::max_element(volume.begin(), volume.end()) : 0.0;
     std::vector<std::uint8_t> drop(n, 0);

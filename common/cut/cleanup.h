@@ -3,8 +3,10 @@
 //    no exterior-labelled cell are enclosed by the object, seen by no camera: they become
 //    inside (their inward-facing surfaces would otherwise be separate, inverted shells);
 //  - specks: connected regions of inside cells whose volume is below `min_fraction` of the
-//    largest region and which hold no interior-labelled cell become outside.
-// Regions are face-connected. Labels are never contradicted.
+//    largest region and which hold no interior-labelled cell become outside. Interior labels
+//    marked `weak` (silhouette-fix's constraints) do not protect a speck: a constraint
+//    that pulled nothing but its own cell is a speck, not a protrusion.
+// Regions are face-connected. Other labels are never contradicted.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -20,6 +22,7 @@ struct CleanupStats {
 };
 
 CleanupStats clean_up_regions(const tet::TetMesh& m, const std::vector<std::int8_t>& labels,
-                              std::vector<std::uint8_t>& inside, double min_fraction);
+                              std::vector<std::uint8_t>& inside, double min_fraction,
+                              const std::vector<std::uint8_t>* weak = nullptr);
 
 }  // namespace tetmvs::cut

@@ -60,8 +60,13 @@ int main(int argc, char** argv) {
     }
     info("cut: ", C, " cells, ", F, " faces, lambda ", opt.lambda, ", sigma ", opt.sigma);
     cut::CutResult r = cut::min_cut(mesh, omega.data, labels.data, opt);
+    std::vector<std::uint8_t> weak(C, 0);  // silhouette-fix's interior constraints (reason 6)
+    if (lf.has("/cells/reason")) {
+      const auto reason = lf.read<std::uint8_t>("/cells/reason", {C});
+      for (std::int64_t c = 0; c < C; ++c) weak[c] = labels.data[c] > 0 && reason.data[c] == 6;
+    }
     const cut::CleanupStats cs =
-        cut::clean_up_regions(mesh, labels.data, r.inside, ctx.params.d("cut.min_region_fraction"));
+        cut::clean_up_regions(mesh, labels.data, r.inside, ctx.params.d("cut.min_region_fraction"), &weak);
     require(r.cut_faces > 0, labels_file, ": the cut is empty (no interior cells survive); check the labels");
     cut::SurfaceStats st;
     std::vector<std::int32_t> face_ids;
