@@ -39,9 +39,9 @@ class File {
   // New file at `target`; data goes to a temporary sibling until commit().
   static File create(const std::filesystem::path& target);
   // Existing file, read-only. When schema is non-empty, the root attributes must name
-  // it with a version in [min_version, max_version]; otherwise an Error explains.
+  // it with a version in [min_version, max_version] (default: exactly 1); otherwise an Error explains.
   static File open(const std::filesystem::path& file, const std::string& schema = "",
-                   int min_version = 1, int max_version = 1 << 30);
+                   int min_version = 1, int max_version = 1);
   File(File&& o) noexcept;
   File& operator=(File&& o) noexcept;
   File(const File&) = delete;

@@ -6,6 +6,7 @@
 
 #include "common/cut/cleanup.h"
 #include "common/cut/graph_cut.h"
+#include "common/cut/inputs.h"
 #include "common/cut/surface.h"
 #include "common/error.h"
 #include "common/h5io.h"
@@ -36,14 +37,9 @@ int main(int argc, char** argv) {
   return cli.run(argc, argv, [&](StageContext& ctx) {
     const tet::TetMesh mesh = tet::read_mesh(mesh_file);
     const std::int64_t F = mesh.num_faces(), C = mesh.num_cells();
-    auto sf = h5::File::open(scores_file, "tetmvs.scores");
-    const auto omega = sf.read<float>("/faces/omega", {F, 2});
-    for (float w : omega.data)
-      require(w >= 0.0f && w <= 1.0f, scores_file, ": /faces/omega values must lie in [0, 1]");
-    auto lf = h5::File::open(labels_file, "tetmvs.labels");
-    const auto labels = lf.read<std::int8_t>("/cells/label", {C});
-    for (auto l : labels.data)
-      require(l >= -1 && l <= 1, labels_file, ": /cells/label values must be -1, 0 or 1");
+    const std::vector<float> omega = cut::read_omega(scores_file, F);
+    const std::vector<std::int8_t> labels = cut::read_labels(labels_file, C);
+    auto lf = h5::File::open(labels_file, "tetmvs.labels");  // its other datasets
     cut::CutOptions opt;
     opt.lambda = ctx.params.d("cut.lambda");
     opt.sigma = ctx.params.d("cut.sigma");
@@ -59,14 +55,14 @@ int main(int argc, char** argv) {
       opt.outside_evidence = &out_ev;
     }
     info("cut: ", C, " cells, ", F, " faces, lambda ", opt.lambda, ", sigma ", opt.sigma);
-    cut::CutResult r = cut::min_cut(mesh, omega.data, labels.data, opt);
+    cut::CutResult r = cut::min_cut(mesh, omega, labels, opt);
     std::vector<std::uint8_t> weak(C, 0);  // silhouette-fix's interior constraints (reason 6)
     if (lf.has("/cells/reason")) {
       const auto reason = lf.read<std::uint8_t>("/cells/reason", {C});
-      for (std::int64_t c = 0; c < C; ++c) weak[c] = labels.data[c] > 0 && reason.data[c] == 6;
+      for (std::int64_t c = 0; c < C; ++c) weak[c] = labels[c] > 0 && reason.data[c] == 6;
     }
     const cut::CleanupStats cs =
-        cut::clean_up_regions(mesh, labels.data, r.inside, ctx.params.d("cut.min_region_fraction"), &weak);
+        cut::clean_up_regions(mesh, labels, r.inside, ctx.params.d("cut.min_region_fraction"), &weak);
     require(r.cut_faces > 0, labels_file, ": the cut is empty (no interior cells survive); check the labels");
     cut::SurfaceStats st;
     std::vector<std::int32_t> face_ids;

@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "common/cut/inputs.h"
 #include "common/cut/surface.h"
 #include "common/error.h"
 #include "common/fileio.h"
@@ -100,15 +101,11 @@ int main(int argc, char** argv) {
 
     const tet::TetMesh mesh = tet::read_mesh(mesh_file);
     const std::int64_t F = mesh.num_faces(), C = mesh.num_cells();
-    auto sf = h5::File::open(scores_file, "tetmvs.scores");
-    const auto omega = sf.read<float>("/faces/omega", {F, 2});
-    for (float w : omega.data)
-      require(w >= 0.0f && w <= 1.0f, scores_file, ": /faces/omega values must lie in [0, 1]");
-    auto lf = h5::File::open(labels_file, "tetmvs.labels");
-    const auto labels = lf.read<std::int8_t>("/cells/label", {C});
+    const std::vector<float> omega = cut::read_omega(scores_file, F);
+    const std::vector<std::int8_t> labels = cut::read_labels(labels_file, C);
+    auto lf = h5::File::open(labels_file, "tetmvs.labels");  // its other datasets
     const auto reasons = lf.read<std::uint8_t>("/cells/reason", {C});
     const auto votes = lf.read<std::int32_t>("/cells/votes", {C});
-    for (auto l : labels.data) require(l >= -1 && l <= 1, labels_file, ": /cells/label values must be -1, 0 or 1");
 
     TriMesh s1;
     std::vector<fs::path> inputs = {scene_file, mesh_file, scores_file, labels_file};
@@ -132,7 +129,7 @@ int main(int argc, char** argv) {
     o.min_peak = ctx.params.d("silfix.min_peak");
     o.peak_ratio = ctx.params.d("silfix.peak_ratio");
     info("silhouette-fix: ", C, " cells, S1 ", s1.nf(), " triangles, ", scene.num_silhouettes(), " silhouettes");
-    const silfix::Result r = silfix::fix_silhouettes(mesh, scene, s1, omega.data, labels.data, reasons.data, o);
+    const silfix::Result r = silfix::fix_silhouettes(mesh, scene, s1, omega, labels, reasons.data, o);
     const SilhouetteAgreement agree = silhouette_agreement(s1, scene);
 
     std::int64_t interior = 0, exterior = 0;

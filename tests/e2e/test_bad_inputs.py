@@ -16,19 +16,15 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
+import harness  # noqa: E402
 import tiny_run  # noqa: E402
 
 BIN, SRC = sys.argv[1], sys.argv[2]
-failures, passed, cases = [], 0, 0
+cases = 0
 
 
-def expect(cond, msg):
-    global passed
-    if cond:
-        passed += 1
-    else:
-        failures.append(msg)
-        print("FAIL:", msg)
+CHECKS = harness.Checks()
+expect = CHECKS.expect
 
 
 # ---- mutations of an input file; each returns (path, words expected in the message) ----
@@ -216,8 +212,7 @@ def main():
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     print(f"bad-input cases: {cases}")
-    print(f"{passed} passed, {len(failures)} failed")
-    return 1 if failures else 0
+    CHECKS.finish()
 
 
 if __name__ == "__main__":

@@ -13,22 +13,16 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
+import harness  # noqa: E402
 import check_schema  # noqa: E402
 
 BIN, SRC = sys.argv[1], sys.argv[2]
 DATA = os.path.join(SRC, "..", "shared", "data", "middlebury")
 SETS = ["dinoRing", "templeRing", "dinoSparseRing", "templeSparseRing"]
-failures = []
-passed = 0
 
 
-def expect(cond, msg):
-    global passed
-    if cond:
-        passed += 1
-    else:
-        failures.append(msg)
-        print("FAIL:", msg)
+CHECKS = harness.Checks()
+expect = CHECKS.expect
 
 
 def run(args):
@@ -204,8 +198,7 @@ def main():
             print("SKIP: no Middlebury data at", DATA)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    print(f"{passed} passed, {len(failures)} failed")
-    return 1 if failures else 0
+    CHECKS.finish()
 
 
 if __name__ == "__main__":

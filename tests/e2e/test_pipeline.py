@@ -11,21 +11,16 @@ import re
 import sys
 
 sys.path.insert(0, os.path.dirname(__file__))
+import harness  # noqa: E402
 import check_schema  # noqa: E402
 import gt_inside  # noqa: E402
 import tiny_run  # noqa: E402
 
 BIN, SRC = sys.argv[1], sys.argv[2]
-failures, passed = [], 0
 
 
-def expect(cond, msg):
-    global passed
-    if cond:
-        passed += 1
-    else:
-        failures.append(msg)
-        print("FAIL:", msg)
+CHECKS = harness.Checks()
+expect = CHECKS.expect
 
 
 SCHEMA_OF = {
@@ -103,8 +98,7 @@ def main():
         expect(not set(ran) & {"ingest", "bcc-init", "synth"}, f"T does not rerun ingest/bcc-init, ran {ran}")
     r = tiny_run.make(BIN, SRC, ["-n", target], extra=["SIL_THRESHOLD=0.2"])
     expect("ingest" in stages_run(r.stdout), "an ingest parameter reruns ingest")
-    print(f"{passed} passed, {len(failures)} failed")
-    return 1 if failures else 0
+    CHECKS.finish()
 
 
 if __name__ == "__main__":
