@@ -55,6 +55,10 @@ STAMPS := $(RUN_DIR)/.params
 # stage's parameters last changed. Done at parse time so that `make -n` is truthful.
 ALL_STAGES := ingest bcc-init photoconsist refine label cut silhouette-fix deform evaluate
 stamp_text = $(call set_args,$(1)) $(STAGE_FLAGS) $(if $(PARAMS),$(firstword $(shell sha256sum $(PARAMS))))
+# A dry run (make -n) must not touch the run: it compares against a copy of the stamps.
+ifneq ($(findstring n,$(firstword -$(MAKEFLAGS))),)
+STAMPS := $(shell d='$(RUN_DIR)/.params-dry'; rm -rf "$$d"; mkdir -p "$$d"; cp -p '$(RUN_DIR)/.params/'*.args "$$d"/ 2>/dev/null; echo "$$d")
+endif
 ifeq ($(filter help clean,$(MAKECMDGOALS)),)
 _stamps := $(foreach s,$(ALL_STAGES),$(shell mkdir -p '$(STAMPS)' && printf '%s\n' '$(call stamp_text,$(s))' > '$(STAMPS)/$(s).args.new' && { cmp -s '$(STAMPS)/$(s).args.new' '$(STAMPS)/$(s).args' && rm -f '$(STAMPS)/$(s).args.new' || mv -f '$(STAMPS)/$(s).args.new' '$(STAMPS)/$(s).args'; }))
 endif
