@@ -60,29 +60,6 @@ void check_input(const TriMesh& m) {
             " faces has negative volume (inward-facing triangles)");
 }
 
-// Drops faces with a repeated vertex (none expected) and unreferenced vertices.
-void compact(RemeshMesh& m) {
-  std::vector<Eigen::Vector3i> F;
-  for (const auto& t : m.F)
-    if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) F.push_back(t);
-  std::vector<int> id(m.V.size(), -1);
-  for (const auto& t : F)
-    for (int k = 0; k < 3; ++k) id[t[k]] = 0;
-  std::vector<Eigen::Vector3d> V;
-  std::vector<double> fp;
-  for (size_t v = 0; v < m.V.size(); ++v)
-    if (id[v] == 0) {
-      id[v] = static_cast<int>(V.size());
-      V.push_back(m.V[v]);
-      fp.push_back(m.fp[v]);
-    }
-  for (auto& t : F)
-    for (int k = 0; k < 3; ++k) t[k] = id[t[k]];
-  m.V.swap(V);
-  m.F.swap(F);
-  m.fp.swap(fp);
-}
-
 }  // namespace
 
 Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt, const photo::Options& popt) {

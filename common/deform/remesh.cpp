@@ -78,6 +78,28 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
   return count;
 }
 
+void compact(RemeshMesh& m) {
+  std::vector<Eigen::Vector3i> F;
+  for (const auto& t : m.F)
+    if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) F.push_back(t);
+  std::vector<int> id(m.V.size(), -1);
+  for (const auto& t : F)
+    for (int k = 0; k < 3; ++k) id[t[k]] = 0;
+  std::vector<Eigen::Vector3d> V;
+  std::vector<double> fp;
+  for (size_t v = 0; v < m.V.size(); ++v)
+    if (id[v] == 0) {
+      id[v] = static_cast<int>(V.size());
+      V.push_back(m.V[v]);
+      fp.push_back(m.fp[v]);
+    }
+  for (auto& t : F)
+    for (int k = 0; k < 3; ++k) t[k] = id[t[k]];
+  m.V.swap(V);
+  m.F.swap(F);
+  m.fp.swap(fp);
+}
+
 std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ratio, double max_px) {
   const int nv = static_cast<int>(m.V.size()), nf = static_cast<int>(m.F.size());
   const Topology topo = build_topology(m.F, nv);
@@ -162,23 +184,8 @@ std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ra
   F.reserve(nf);
   for (int f = 0; f < nf; ++f)
     if (!face_dead[f]) F.emplace_back(remap[m.F[f][0]], remap[m.F[f][1]], remap[m.F[f][2]]);
-  std::vector<int> newid(nv, -1);
-  int k = 0;
-  for (const auto& t : F)
-    for (int i = 0; i < 3; ++i) newid[t[i]] = 0;
-  std::vector<Eigen::Vector3d> V;
-  std::vector<double> fp;
-  for (int v = 0; v < nv; ++v)
-    if (newid[v] == 0) {
-      newid[v] = k++;
-      V.push_back(m.V[v]);
-      fp.push_back(m.fp[v]);
-    }
-  for (auto& t : F)
-    for (int i = 0; i < 3; ++i) t[i] = newid[t[i]];
-  m.V.swap(V);
-  m.fp.swap(fp);
   m.F.swap(F);
+  compact(m);
   return count;
 }
 

@@ -33,6 +33,9 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px);
 // vertices, both of degree > 3), no surrounding triangle turns by more than 60 degrees
 // or becomes degenerate, and no new edge exceeds max_px. Unused vertices are removed.
 // Returns the number of collapses.
+// Drops faces with a repeated vertex and vertices no face uses (order kept).
+void compact(RemeshMesh& m);
+
 std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ratio, double max_px);
 
 // Flips edges whose two opposite angles sum to more than pi (Delaunay criterion), when
