@@ -154,6 +154,9 @@ $(RUN_DIR)/report/index.html: all | programs
 clean:
 	rm -rf $(RUN_DIR)
 
+# Single-quote a string for the shell (paper values contain quotes).
+shq = '$(subst ','\'',$(1))'
+
 help:
 	@echo "Targets:   all (default: every stage that exists), ingest, mesh, levels, points,"
 	@echo "           cut1, cut2, final, evaluate, clean, help"
@@ -161,4 +164,5 @@ help:
 	@echo "           LEVELS=$(LEVELS)  PARAMS=$(PARAMS)  QUIET=$(QUIET)  BUILD_DIR=$(BUILD_DIR)"
 	@echo "           DATA: synth-<object> renders a synthetic scene; $(MIDDLEBURY) use DATA_DIR or download"
 	@echo "Parameters (VAR=value on the command line; default, paper value, stages):"
-	@$(foreach v,$(MAKE_PARAMS),printf '  %-18s %-12s %-28s %s\n' '$(v)' '$(PARAM_$(v)_DEFAULT)' '$(PARAM_$(v)_PAPER)' '$(PARAM_$(v)_STAGES)';)
+	@$(foreach v,$(MAKE_PARAMS),d=$(call shq,$(PARAM_$(v)_DEFAULT)); if printf %g "$$d" >/dev/null 2>&1; then d=$$(printf %g "$$d"); fi; \
+	  printf '  %-28s %-10s %-28s %s\n' '$(v)' "$$d" $(call shq,$(PARAM_$(v)_PAPER)) '$(PARAM_$(v)_STAGES)';)
