@@ -226,6 +226,35 @@ std::string build_report(const Options& o) {
       << "</td><td>" << esc(j.value("summary", "")) << "</td></tr>\n";
   }
   h << "<tr><th>total</th><th class=num>" << fmt(total, 4) << "</th><th></th><th></th><th></th></tr></table>\n";
+  // ---- benchmark (scripts/bench_pipeline.py writes bench.json into the run directory)
+  if (fs::exists(R / "bench.json")) {
+    try {
+      const json b = json::parse(read_file(R / "bench.json"));
+      h << "<h2>Benchmark</h2>\n<p>scripts/bench_pipeline.py, commit <code>" << esc(b.value("git", "?")) << "</code>, "
+        << b["machine"].value("cpus", 0) << " cpus, LEVELS=" << b.value("levels", 0) << "</p>\n"
+        << "<table><tr><th>target</th><th>measured</th><th>target</th><th>met</th></tr>\n";
+      for (const auto& [k, t] : b["targets"].items())
+        h << "<tr><td>" << esc(k) << "</td><td class=num>" << fmt(t.value("measured", 0.0), 4) << "</td><td class=num>"
+          << fmt(t.value("target", 0.0), 4) << "</td><td" << (t.value("met", false) ? ">yes" : " class=bad>no") << "</td></tr>\n";
+      h << "</table>\n";
+      const json& me = b["mesh"];
+      if (me.value("cells_final", json()).is_number() && me.value("cells_uniform_same_finest", json()).is_number())
+        h << "<p>Final mesh: " << me["cells_final"].get<long long>() << " cells; a uniform BCC mesh of the same finest "
+          << "cells would have " << me["cells_uniform_same_finest"].get<long long>() << " ("
+          << fmt(100.0 * me.value("fraction_of_uniform", 0.0), 3) << " %).</p>\n";
+      h << "<table><tr><th>stage</th><th>level</th><th>wall s</th><th>cpu s</th><th>peak MB</th><th>work counts</th></tr>\n";
+      for (const auto& s : b["stages"]) {
+        std::string counts;
+        for (const auto& [k, v] : s["counts"].items()) counts += (counts.empty() ? "" : ", ") + k + " " + v.dump();
+        h << "<tr><td>" << esc(s.value("stage", "")) << "</td><td>" << (s["level"].is_number() ? s["level"].dump() : "")
+          << "</td><td class=num>" << fmt(s.value("wall_s", 0.0), 4) << "</td><td class=num>" << fmt(s.value("cpu_s", 0.0), 4)
+          << "</td><td class=num>" << fmt(s.value("peak_memory_mb", 0.0), 4) << "</td><td>" << esc(counts) << "</td></tr>\n";
+      }
+      h << "</table>\n";
+    } catch (const std::exception& e) {
+      h << "<p class=bad>bench.json unreadable: " << esc(e.what()) << "</p>\n";
+    }
+  }
   // ---- parameters
   h << "<h2>Parameters</h2>\n<table><tr><th>file</th><th>parameters</th></tr>\n";
   std::vector<fs::path> h5s;
