@@ -4,6 +4,7 @@
 #   make -f pipeline.mk                       # default synthetic scene, whole pipeline
 #   make -f pipeline.mk DATA=dinoRing         # a Middlebury set
 #   make -f pipeline.mk DATA=dinoRing T=0.5 LAMBDA=0.5 cut1
+#   make -f pipeline.mk DATA_DIR=/photos/ws   # a COLMAP workspace (images/ + sparse/)
 #   make -f pipeline.mk help                  # targets, variables and parameters
 #
 # Parameters given on the command line (T=0.5, LAMBDA=4, ...: see `help`) are tracked:
@@ -22,6 +23,14 @@ BIN       := $(BUILD_DIR)/bin
 DATA      ?= synth-torus
 # Middlebury sets: a sibling shared/data/middlebury folder when there is one, else data/.
 DATA_DIR  ?= $(firstword $(wildcard $(ROOT)/../shared/data/middlebury) $(ROOT)/data)
+# DATA_DIR may also be ONE COLMAP workspace (images/ + sparse/, docs/colmap.md): the run is
+# then named after the folder unless DATA is given.
+COLMAP_WS := $(if $(wildcard $(DATA_DIR)/sparse),$(patsubst %/,%,$(DATA_DIR)))
+ifneq ($(COLMAP_WS),)
+  ifneq ($(origin DATA),command line)
+    DATA := $(notdir $(COLMAP_WS))
+  endif
+endif
 SYNTH_DIR ?= $(ROOT)/data
 RUN_DIR   ?= $(ROOT)/runs/$(DATA)
 # Refinement levels. 3 gives cells of about 4 px on dinoRing-sized scenes (the paper: 1-5 px);
@@ -34,7 +43,10 @@ QUIET     ?=
 export TETMVS_LOG := $(RUN_DIR)/stages.jsonl
 STAGE_FLAGS := $(if $(QUIET),--quiet) $(if $(PARAMS),--params $(PARAMS))
 
-ifneq ($(filter synth-%,$(DATA)),)
+ifneq ($(COLMAP_WS),)
+  DATASET := $(COLMAP_WS)
+  GT      := $(wildcard $(DATASET)/gt.ply)
+else ifneq ($(filter synth-%,$(DATA)),)
   DATASET := $(SYNTH_DIR)/$(DATA)
   GT      := $(DATASET)/gt.ply
 else
@@ -80,7 +92,9 @@ SYNTH_FLAGS   ?=
 $(SYNTH_DIR)/synth-%/gt.ply: | programs
 	$(BIN)/synth --object $* --cameras $(SYNTH_CAMERAS) --out $(SYNTH_DIR)/synth-$* $(SYNTH_FLAGS) $(if $(QUIET),--quiet)
 
-ifneq ($(filter synth-%,$(DATA)),)
+ifneq ($(COLMAP_WS),)
+DATASET_READY :=
+else ifneq ($(filter synth-%,$(DATA)),)
 DATASET_READY := $(GT)
 else ifneq ($(filter $(DATA),$(MIDDLEBURY)),)
 DATASET_READY := $(if $(wildcard $(DATASET)/*_par.txt),,$(DATA_DIR)/$(DATA)/.present)
@@ -163,6 +177,7 @@ help:
 	@echo "Variables: DATA=$(DATA)  DATA_DIR=$(DATA_DIR)  RUN_DIR=$(RUN_DIR)"
 	@echo "           LEVELS=$(LEVELS)  PARAMS=$(PARAMS)  QUIET=$(QUIET)  BUILD_DIR=$(BUILD_DIR)"
 	@echo "           DATA: synth-<object> renders a synthetic scene; $(MIDDLEBURY) use DATA_DIR or download"
+	@echo "           DATA_DIR=<COLMAP workspace> (images/ + sparse/) reconstructs it (docs/colmap.md)"
 	@echo "Parameters (VAR=value on the command line; default, paper value, stages):"
 	@$(foreach v,$(MAKE_PARAMS),d=$(call shq,$(PARAM_$(v)_DEFAULT)); if printf %g "$$d" >/dev/null 2>&1; then d=$$(printf %g "$$d"); fi; \
 	  printf '  %-28s %-10s %-28s %s\n' '$(v)' "$$d" $(call shq,$(PARAM_$(v)_PAPER)) '$(PARAM_$(v)_STAGES)';)

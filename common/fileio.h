@@ -9,6 +9,11 @@ namespace tetmvs {
 // Temporary sibling path for an atomic write of `target`.
 std::filesystem::path temp_path_for(const std::filesystem::path& target);
 
+// Removes temporary siblings "<target>.tmp.<pid>" left by stages that were killed (their
+// process no longer exists); called before every atomic write of `target`, so a rerun
+// after an interruption leaves no debris. Errors are ignored (best effort).
+void remove_stale_temps(const std::filesystem::path& target);
+
 // Renames tmp over target (atomic on POSIX within one filesystem).
 void commit_file(const std::filesystem::path& tmp, const std::filesystem::path& target);
 

@@ -98,6 +98,7 @@ File File::create(const fs::path& target) {
     std::error_code ec;
     fs::create_directories(target.parent_path(), ec);
   }
+  remove_stale_temps(target);
   f.id_ = H5Fcreate(f.tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (f.id_ < 0) fail(target.string(), ": cannot create HDF5 file");
   f.writable_ = true;

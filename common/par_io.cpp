@@ -49,8 +49,9 @@ std::vector<Camera> read_par(const fs::path& file, double rot_tol) {
     const std::string where = file.string() + ":" + std::to_string(lineno) + ": ";
     if (declared < 0) {
       double v;
-      if (f.size() != 1 || !parse_double(f[0], v) || v < 1 || v != std::floor(v))
-        fail(where, "first line must be the number of views, got '", line, "'");
+      // (bounded before the conversion: a huge count would overflow the cast)
+      if (f.size() != 1 || !parse_double(f[0], v) || v < 1 || v > 1e6 || v != std::floor(v))
+        fail(where, "first line must be the number of views (1 to 1000000), got '", line, "'");
       declared = static_cast<long>(v);
       continue;
     }

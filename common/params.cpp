@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string_view>
 
@@ -28,10 +29,12 @@ json coerce(const json& decl, const json& v, const std::string& key, const std::
     if (!std::isfinite(d)) bad("must be finite");
     out = d;
   } else if (type == "int") {
-    if (v.is_number_integer()) out = v.get<long long>();
-    else if (v.is_number_float() && v.get<double>() == std::floor(v.get<double>()))
-      out = static_cast<long long>(v.get<double>());
-    else bad("must be an integer, got " + v.dump());
+    // whole numbers within +-2^53 only (checked before any conversion: casting a larger
+    // value, e.g. 1e300 or 2^64-1, overflows)
+    constexpr double kMaxExact = 9007199254740992.0;
+    const double d = v.is_number() ? v.get<double>() : NAN;
+    if (!(std::abs(d) <= kMaxExact) || d != std::floor(d)) bad("must be an integer, got " + v.dump());
+    out = v.is_number_integer() && !v.is_number_unsigned() ? v.get<long long>() : static_cast<long long>(d);
   } else if (type == "bool") {
     if (!v.is_boolean()) bad("must be true or false, got " + v.dump());
     out = v;
@@ -143,7 +146,12 @@ const json& value_of(const json& table, const std::string& key, const char* want
 }  // namespace
 
 double Params::d(const std::string& key) const { return value_of(table_, key, "double").get<double>(); }
-int Params::i(const std::string& key) const { return value_of(table_, key, "int").get<int>(); }
+int Params::i(const std::string& key) const {
+  const long long v = value_of(table_, key, "int").get<long long>();
+  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+    fail("parameter ", key, " = ", v, " does not fit a 32-bit integer (its range in params/defaults.json is too wide)");
+  return static_cast<int>(v);
+}
 bool Params::b(const std::string& key) const { return value_of(table_, key, "bool").get<bool>(); }
 std::string Params::s(const std::string& key) const {
   return value_of(table_, key, "string").get<std::string>();

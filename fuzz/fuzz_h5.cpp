@@ -1,8 +1,7 @@
-// libFuzzer target: validation of HDF5 inputs. The fuzzer's bytes are decoded into an
-// HDF5 file built with the HDF5 API (structure-aware: dataset names a stage reads, with
-// random dtypes, shapes and values including NaN and inf, and random root attributes),
-// then the scene and mesh readers must accept it or throw tetmvs::Error.
-// (Raw byte mutation would mostly exercise libhdf5's own parser, which is not ours.)
+// libFuzzer target: validation of HDF5 inputs. The fuzzer's bytes are decoded into edits
+// of a valid scene or mesh file (fuzz/h5_builder.h: poked elements, deleted or replaced
+// datasets, rewritten attributes), then the scene and mesh readers must accept the file
+// or throw tetmvs::Error: no crash, no other exception, no sanitizer report.
 #include <hdf5.h>
 #include <unistd.h>
 

@@ -1,17 +1,28 @@
 // libFuzzer target: parameter overrides (JSON files and --set key=value). Any input
-// must be accepted or rejected with tetmvs::Error.
+// must be accepted or rejected with tetmvs::Error, and what was accepted must read back
+// with its declared type. scripts/fuzz.sh passes fuzz/params.dict (keys, awkward numbers).
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "common/error.h"
 #include "common/params.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string s(reinterpret_cast<const char*>(data), size);
-  tetmvs::Params p = tetmvs::Params::defaults();
+  static const tetmvs::Params defaults = tetmvs::Params::defaults();  // parsed once
+  tetmvs::Params p = defaults;
   try {
     p.set(s);
   } catch (const tetmvs::Error&) {
+  }
+  // structure-aware: the first byte picks a declared key, the rest is its value
+  if (size > 0) {
+    static const std::vector<std::string> keys = defaults.keys_for("");
+    try {
+      p.set(keys[data[0] % keys.size()] + "=" + s.substr(1));
+    } catch (const tetmvs::Error&) {
+    }
   }
   try {
     const auto j = nlohmann::json::parse(s, nullptr, /*allow_exceptions=*/false);

@@ -1,8 +1,11 @@
 #include "common/deform/deform.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <unordered_map>
 #include <opencv2/imgproc.hpp>
 
 #include "common/deform/forces.h"
@@ -18,6 +21,8 @@
 namespace tetmvs::deform {
 
 namespace {
+
+constexpr int kUntangleRounds = 8;
 
 double median(std::vector<double> x) {
   if (x.empty()) return 0;
@@ -60,6 +65,112 @@ void check_input(const TriMesh& m) {
             " faces has negative volume (inward-facing triangles)");
 }
 
+// Intersections of V1 given those of an earlier state: pairs with a face in `changed`
+// are recomputed, the others kept from `prev` (both lists sorted).
+std::vector<std::pair<int, int>> update_intersections(const std::vector<Eigen::Vector3d>& V1,
+                                                      const std::vector<Eigen::Vector3i>& F,
+                                                      const std::vector<std::pair<int, int>>& prev,
+                                                      const std::vector<char>& changed) {
+  std::vector<std::pair<int, int>> out;
+  for (const auto& p : prev)
+    if (!changed[p.first] && !changed[p.second]) out.push_back(p);
+  const auto fresh = self_intersections(V1, F, changed);
+  out.insert(out.end(), fresh.begin(), fresh.end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+// Faces of a mesh keyed by their corners' positions (in order): a face that remeshing
+// did not touch keeps its key.
+struct FaceKey {
+  std::array<double, 9> x;
+  bool operator==(const FaceKey& o) const { return x == o.x; }
+};
+struct FaceKeyHash {
+  size_t operator()(const FaceKey& k) const {
+    size_t h = 1469598103934665603ull;
+    for (double d : k.x) {
+      std::uint64_t b;
+      std::memcpy(&b, &d, sizeof b);
+      h = (h ^ b) * 1099511628211ull;
+    }
+    return h;
+  }
+};
+FaceKey face_key(const std::vector<Eigen::Vector3d>& V, const Eigen::Vector3i& t) {
+  FaceKey k;
+  for (int c = 0; c < 3; ++c)
+    for (int d = 0; d < 3; ++d) k.x[3 * c + d] = V[t[c]][d];
+  return k;
+}
+
+// Intersections after remeshing from those before it: pairs of two untouched faces are
+// carried over (renumbered), faces that remeshing made or moved are tested again.
+std::vector<std::pair<int, int>> intersections_after_remesh(const std::vector<Eigen::Vector3d>& V0,
+                                                            const std::vector<Eigen::Vector3i>& F0,
+                                                            const std::vector<std::pair<int, int>>& pairs0,
+                                                            const std::vector<Eigen::Vector3d>& V,
+                                                            const std::vector<Eigen::Vector3i>& F) {
+  std::unordered_map<FaceKey, int, FaceKeyHash> old;
+  old.reserve(F0.size());
+  for (size_t f = 0; f < F0.size(); ++f) old.emplace(face_key(V0, F0[f]), static_cast<int>(f));
+  std::vector<int> to_new(F0.size(), -1);
+  std::vector<char> changed(F.size(), 1);
+  for (size_t f = 0; f < F.size(); ++f) {
+    const auto it = old.find(face_key(V, F[f]));
+    if (it != old.end() && to_new[it->second] < 0) {
+      to_new[it->second] = static_cast<int>(f);
+      changed[f] = 0;
+    }
+  }
+  std::vector<std::pair<int, int>> prev;
+  for (const auto& p : pairs0) {
+    const int a = to_new[p.first], b = to_new[p.second];
+    if (a >= 0 && b >= 0) prev.emplace_back(std::min(a, b), std::max(a, b));
+  }
+  std::sort(prev.begin(), prev.end());
+  return update_intersections(V, F, prev, changed);
+}
+
+// Removes self-intersections (made by remeshing, or present in the input) by umbrella
+// smoothing of the vertices of intersecting triangles and their neighbours, growing the
+// neighbourhood each round; returns the intersections left (sorted).
+std::vector<std::pair<int, int>> untangle(std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F,
+                                          std::vector<std::pair<int, int>> pairs, int rounds) {
+  if (pairs.empty()) return pairs;
+  const int nv = static_cast<int>(V.size());
+  const Topology topo = build_topology(F, nv);
+  for (int r = 0; r < rounds && !pairs.empty(); ++r) {
+    std::vector<char> mark(nv, 0);
+    for (const auto& p : pairs)
+      for (int f : {p.first, p.second})
+        for (int k = 0; k < 3; ++k) mark[F[f][k]] = 1;
+    for (int ring = 0; ring < 1 + r / 2; ++ring) {
+      std::vector<char> grown = mark;
+      for (int v = 0; v < nv; ++v)
+        if (mark[v])
+          for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) grown[topo.nbr[q]] = 1;
+      mark.swap(grown);
+    }
+    std::vector<Eigen::Vector3d> V1 = V;
+    for (int v = 0; v < nv; ++v) {
+      if (!mark[v]) continue;
+      const int s = topo.nbr_start[v], e = topo.nbr_start[v + 1];
+      if (e == s) continue;
+      Eigen::Vector3d m = Eigen::Vector3d::Zero();
+      for (int q = s; q < e; ++q) m += V[topo.nbr[q]];
+      V1[v] = 0.5 * V[v] + 0.5 * m / (e - s);
+    }
+    std::vector<char> changed(F.size(), 0);
+    for (size_t f = 0; f < F.size(); ++f)
+      changed[f] = mark[F[f][0]] || mark[F[f][1]] || mark[F[f][2]];
+    pairs = update_intersections(V1, F, pairs, changed);
+    V.swap(V1);
+  }
+  return pairs;
+}
+
 }  // namespace
 
 Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt, const photo::Options& popt) {
@@ -83,9 +194,12 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
   M.V = start.V;
   M.F = start.F;
   M.fp = vertex_footprints(M.V, scene.cams, fallback_fp);
+  M.settled.assign(M.V.size(), 0);
 
   Result res;
-  res.start_intersections = static_cast<std::int64_t>(self_intersections(M.V, M.F).size());
+  std::vector<std::pair<int, int>> current = self_intersections(M.V, M.F);  // of the current mesh
+  res.start_intersections = static_cast<std::int64_t>(current.size());
+  current = untangle(M.V, M.F, current, kUntangleRounds);
   info("deform: ", M.V.size(), " vertices, ", M.F.size(), " faces, ", res.start_intersections,
        " intersecting triangle pairs at the start, ", scene.num_silhouettes(), " of ", nc, " views with silhouettes");
 
@@ -110,8 +224,20 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
     const std::vector<Eigen::Vector3d> fsil = silhouette_force(M.V, N, M.fp, scene.cams, sd, rasters, vis, opt, rim);
     std::vector<TextureProbe> probes;
     std::vector<Eigen::Vector3d> ftex;
-    if (it >= opt.texture_start && opt.w_texture > 0)
-      ftex = texture_force(M.V, N, M.fp, views, opt.occlusion ? vis : std::vector<std::uint8_t>{}, opt, popt, probes);
+    if (it >= opt.texture_start && opt.w_texture > 0) {
+      // Every texture_recheck-th texture iteration probes every vertex; the others only
+      // those that have not settled (last probe: a clear peak farther than
+      // texture_settle_px) and those made by remeshing.
+      const bool sweep = (it - opt.texture_start) % opt.texture_recheck == 0;
+      std::vector<std::uint8_t> active(nv, 1);
+      if (!sweep)
+        for (int v = 0; v < nv; ++v) active[v] = !M.settled[v];
+      ftex = texture_force(M.V, N, M.fp, views, opt.occlusion ? vis : std::vector<std::uint8_t>{}, active, opt, popt,
+                           probes);
+      for (int v = 0; v < nv; ++v)
+        if (probes[v].probed)
+          M.settled[v] = !probes[v].applied || std::abs(probes[v].offset_px) < opt.texture_settle_px;
+    }
 
     std::vector<Eigen::Vector3d> move(nv);
     for (int v = 0; v < nv; ++v) {
@@ -123,29 +249,34 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
       move[v] = d;
     }
 
-    // Apply, halving the steps of vertices of new intersections.
-    const auto before = self_intersections(M.V, M.F);
+    // Apply, halving the steps of vertices of new intersections (retries recheck only
+    // the faces whose vertices changed).
+    const auto& before = current;
     std::vector<double> scale(nv, 1.0);
     std::vector<Eigen::Vector3d> V1(nv);
     for (int v = 0; v < nv; ++v) V1[v] = M.V[v] + move[v];
     std::vector<char> reduced(nv, 0);
-    std::int64_t inter_after = 0;
+    std::vector<std::pair<int, int>> pairs = self_intersections(V1, M.F);
     for (int attempt = 0;; ++attempt) {
-      const auto pairs = self_intersections(V1, M.F);
       std::vector<std::pair<int, int>> fresh;
       for (const auto& p : pairs)
         if (!contains(before, p)) fresh.push_back(p);
-      inter_after = static_cast<std::int64_t>(pairs.size());
       if (fresh.empty() || attempt > opt.intersection_retries) break;
+      std::vector<char> changed_v(nv, 0);
       for (const auto& p : fresh)
         for (int f : {p.first, p.second})
           for (int k = 0; k < 3; ++k) {
             const int v = M.F[f][k];
             if (reduced[v] == attempt + 1) continue;
             reduced[v] = static_cast<char>(attempt + 1);
+            changed_v[v] = 1;
             scale[v] = attempt == opt.intersection_retries ? 0.0 : 0.5 * scale[v];
             V1[v] = M.V[v] + scale[v] * move[v];
           }
+      std::vector<char> changed(M.F.size(), 0);
+      for (size_t f = 0; f < M.F.size(); ++f)
+        changed[f] = changed_v[M.F[f][0]] || changed_v[M.F[f][1]] || changed_v[M.F[f][2]];
+      pairs = update_intersections(V1, M.F, pairs, changed);
     }
     double sum_move = 0, sum_px = 0, max_px = 0;
     for (int v = 0; v < nv; ++v) {
@@ -159,11 +290,11 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
     st.mean_move = nv ? sum_move / nv : 0;
     st.mean_move_px = nv ? sum_px / nv : 0;
     st.max_move_px = max_px;
-    st.intersections = inter_after;
     if (!probes.empty()) {
       double ssum = 0, osum = 0;
-      std::int64_t ns = 0, na = 0;
+      std::int64_t ns = 0, na = 0, np = 0;
       for (const auto& p : probes) {
+        np += p.probed;
         if (p.best_score > -1.f) {
           ssum += p.best_score;
           ++ns;
@@ -175,9 +306,12 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
       }
       st.mean_texture_score = ns ? ssum / ns : -1;
       st.texture_applied = nv ? static_cast<double>(na) / nv : 0;
+      st.texture_probed = nv ? static_cast<double>(np) / nv : 0;
       st.mean_texture_offset_px = na ? osum / na : 0;
     }
     M.V.swap(V1);
+    const std::vector<Eigen::Vector3d> V_moved = M.V;
+    const std::vector<Eigen::Vector3i> F_moved = M.F;
 
     // Remesh.
     M.fp = vertex_footprints(M.V, scene.cams, fallback_fp);
@@ -185,11 +319,14 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
     st.collapses = collapse_short_edges(M, opt.min_edge_px, opt.needle_ratio, opt.max_edge_px);
     st.flips = flip_edges(M, opt.flip_dihedral_deg);
     compact(M);
+    // Remeshing may make intersections (a flip or a collapse in a tight spot): undo them.
+    current = untangle(M.V, M.F, intersections_after_remesh(V_moved, F_moved, pairs, M.V, M.F), kUntangleRounds);
+    st.intersections = static_cast<std::int64_t>(current.size());
     st.vertices = static_cast<std::int64_t>(M.V.size());
     st.faces = static_cast<std::int64_t>(M.F.size());
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     info("deform: iteration ", it, ": move ", st.mean_move_px, " px (max ", st.max_move_px, "), texture ",
-         st.mean_texture_score, " (", 100 * st.texture_applied, "% moved, |offset| ", st.mean_texture_offset_px,
+         st.mean_texture_score, " (", 100 * st.texture_probed, "% probed, ", 100 * st.texture_applied, "% moved, |offset| ", st.mean_texture_offset_px,
          " px), rim ", st.rim_vertices, ", IoU ", st.silhouette_iou, ", ", st.vertices, " v ", st.faces, " f, +",
          st.splits, " -", st.collapses, " ~", st.flips, ", reduced ", st.reduced_vertices, ", intersections ",
          st.intersections, ", ", st.seconds, " s");
@@ -198,7 +335,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
 
   res.mesh.V = M.V;
   res.mesh.F = M.F;
-  res.final_intersections = static_cast<std::int64_t>(self_intersections(M.V, M.F).size());
+  res.final_intersections = static_cast<std::int64_t>(current.size());
   {
     const auto rasters = rasterize_all(res.mesh, scene);
     res.final_iou = mean_iou(rasters, scene);
@@ -249,7 +386,7 @@ void write_stats(const std::filesystem::path& file, const Result& r, const std::
   const size_t n = r.iterations.size();
   std::vector<std::int32_t> iter(n);
   std::vector<std::int64_t> nvert(n), nface(n), rim(n), splits(n), collapses(n), flips(n), reduced(n), inter(n);
-  std::vector<double> move(n), move_px(n), max_px(n), score(n), applied(n), offset(n), iou(n), secs(n);
+  std::vector<double> move(n), move_px(n), max_px(n), score(n), applied(n), probed(n), offset(n), iou(n), secs(n);
   for (size_t i = 0; i < n; ++i) {
     const auto& s = r.iterations[i];
     iter[i] = s.iteration;
@@ -266,6 +403,7 @@ void write_stats(const std::filesystem::path& file, const Result& r, const std::
     max_px[i] = s.max_move_px;
     score[i] = s.mean_texture_score;
     applied[i] = s.texture_applied;
+    probed[i] = s.texture_probed;
     offset[i] = s.mean_texture_offset_px;
     iou[i] = s.silhouette_iou;
     secs[i] = s.seconds;
@@ -279,6 +417,7 @@ void write_stats(const std::filesystem::path& file, const Result& r, const std::
   f.write("/iterations/max_move_px", max_px);
   f.write("/iterations/mean_texture_score", score);
   f.write("/iterations/texture_applied", applied);
+  f.write("/iterations/texture_probed", probed);
   f.write("/iterations/mean_texture_offset_px", offset);
   f.write("/iterations/rim_vertices", rim);
   f.write("/iterations/silhouette_iou", iou);

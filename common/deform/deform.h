@@ -30,6 +30,7 @@ struct IterationStats {
   double max_move_px = 0;
   double mean_texture_score = -1;  // mean best score along the normal over vertices that have one (-1: none)
   double texture_applied = 0;      // fraction of vertices moved by the texture force
+  double texture_probed = 0;       // fraction of vertices whose texture profile was measured
   double mean_texture_offset_px = 0;  // mean |peak offset| of those vertices (pixels)
   std::int64_t rim_vertices = 0;   // vertices on a silhouette rim in at least one view
   double silhouette_iou = -1;      // mean IoU of the mesh's silhouettes before the move (-1: no silhouettes)

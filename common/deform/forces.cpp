@@ -7,6 +7,7 @@
 
 #include "common/image.h"
 #include "common/photo/camera_select.h"
+#include "common/photo/ncc.h"
 #include "common/photo/orientations.h"
 #include "common/photo/patch.h"
 #include "common/photo/scratch.h"
@@ -35,7 +36,9 @@ cv::Mat signed_distance(const cv::Mat& mask) {
 
 ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat& sil) {
   ViewRaster r;
-  const Raster ras = rasterize(mesh, cam, {});
+  RasterOptions ro;
+  ro.cull_back = true;  // closed outward mesh: back faces are always hidden behind front ones
+  const Raster ras = rasterize(mesh, cam, ro);
   r.depth = ras.depth;
   const cv::Mat covered = ras.tri >= 0;
   r.sd = signed_distance(covered);
@@ -173,86 +176,179 @@ std::vector<Eigen::Vector3d> silhouette_force(const std::vector<Eigen::Vector3d>
   return out;
 }
 
+namespace {
+
+// Grey image of one view for the texture probe: float rows, bounds for bilinear sampling.
+struct GreyView {
+  const float* data = nullptr;
+  size_t stride = 0;  // floats per row
+  int w = 0, h = 0;
+  bool inside(double u, double v) const { return u >= 0 && v >= 0 && u < w - 1 && v < h - 1; }
+  float at(double u, double v) const {
+    const int x = static_cast<int>(u), y = static_cast<int>(v);
+    const float a = static_cast<float>(u - x), b = static_cast<float>(v - y);
+    const float* r0 = data + y * stride + x;
+    const float* r1 = r0 + stride;
+    return (1 - b) * ((1 - a) * r0[0] + a * r0[1]) + b * ((1 - a) * r1[0] + a * r1[1]);
+  }
+};
+
+// The mu x mu patch on the plane through X (axes e1, e2: world steps between samples)
+// seen in view `view`: projected with the affine approximation of the projection at X
+// (the patch spans ~mu pixels at ~1000 pixels of depth: the error is far below a
+// hundredth of a pixel). False when a sample falls outside the image.
+bool sample_patch(const photo::View& view, const GreyView& g, const Eigen::Vector3d& X, const Eigen::Vector3d& e1,
+                  const Eigen::Vector3d& e2, int mu, float* out) {
+  const Eigen::Vector3d h = view.project_h(X);
+  if (!(h.z() > 0)) return false;
+  const double iz = 1.0 / h.z(), u0 = h.x() * iz, v0 = h.y() * iz;
+  const Eigen::Vector3d d1 = view.project_dir(e1), d2 = view.project_dir(e2);
+  const double u1 = (d1.x() - u0 * d1.z()) * iz, v1 = (d1.y() - v0 * d1.z()) * iz;
+  const double u2 = (d2.x() - u0 * d2.z()) * iz, v2 = (d2.y() - v0 * d2.z()) * iz;
+  const double c = mu / 2;
+  // the four corners bound the (affine) patch
+  for (const double si : {-c, c})
+    for (const double sj : {-c, c})
+      if (!g.inside(u0 + si * u1 + sj * u2, v0 + si * v1 + sj * v2)) return false;
+  for (int j = 0; j < mu; ++j) {
+    const double uj = u0 + (j - c) * u2 - c * u1, vj = v0 + (j - c) * v2 - c * v1;
+    for (int i = 0; i < mu; ++i) out[j * mu + i] = g.at(uj + i * u1, vj + i * v1);
+  }
+  return true;
+}
+
+}  // namespace
+
 std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V,
                                            const std::vector<Eigen::Vector3d>& N, const std::vector<double>& fp,
                                            const photo::Views& views, const std::vector<std::uint8_t>& vis,
-                                           const Options& opt, const photo::Options& photo_opt,
-                                           std::vector<TextureProbe>& probes) {
-  photo::Options popt = photo_opt;
-  popt.cone_deg = opt.texture_cone_deg;
+                                           const std::vector<std::uint8_t>& active, const Options& opt,
+                                           const photo::Options& popt, std::vector<TextureProbe>& probes) {
   const int nv = static_cast<int>(V.size()), nc = views.size();
   std::vector<Eigen::Vector3d> out(nv, Eigen::Vector3d::Zero());
   probes.assign(nv, TextureProbe{});
-  const int J = static_cast<int>(std::lround(opt.texture_range_px / opt.texture_step_px));
-  const int ns = 2 * J + 1;
+  std::vector<GreyView> grey(nc);
+  for (int i = 0; i < nc; ++i) {
+    const cv::Mat& g = views[i].grey;
+    grey[i] = {g.ptr<float>(), g.step1(), g.cols, g.rows};
+  }
+  const int mu = opt.texture_mu, ns = mu * mu;
+  const int M = opt.texture_partners;
+  const double cos_cone = std::cos(opt.texture_cone_deg * M_PI / 180.0);
+  const double cos_bmin = std::cos(opt.texture_baseline_min_deg * M_PI / 180.0);
+  const double cos_bmax = std::cos(opt.texture_baseline_max_deg * M_PI / 180.0);
+  const float min_std = static_cast<float>(popt.min_std);
+  // Coarse offsets every texture_coarse_px over -range..range; around the best, halving
+  // steps down to texture_step_px (each level keeps the best of the peak and its two
+  // neighbours); at the finest level a parabola through the peak and its neighbours.
+  // Offsets are integer multiples ("keys") of the finest step hmin.
+  int L = 0;
+  while (opt.texture_coarse_px / (1 << (L + 1)) >= opt.texture_step_px * (1 - 1e-9) && L < 8) ++L;
+  const double hmin = opt.texture_coarse_px / (1 << L);
+  const int Jc = std::max(1, static_cast<int>(std::lround(opt.texture_range_px / opt.texture_coarse_px)));
+  const int nco = 2 * Jc + 1;
 #pragma omp parallel
   {
-    photo::Scratch scratch;
-    std::vector<float> sc(ns);
-#pragma omp for schedule(dynamic, 64)
+    std::vector<float> buf(static_cast<size_t>(M + 1) * ns);
+    std::vector<float> prof(nco);
+    std::vector<std::pair<int, float>> cache;  // (key, score) evaluated for the current vertex
+    std::vector<std::pair<double, int>> cand;
+    int sel[64];
+#pragma omp for schedule(dynamic, 256)
     for (int v = 0; v < nv; ++v) {
+      if (!active.empty() && !active[v]) continue;
+      probes[v].probed = true;
       const Eigen::Vector3d& n = N[v];
       if (n.squaredNorm() == 0) continue;
-      const Eigen::Vector3d a1 = photo::stable_perpendicular(n);
+      const Eigen::Vector3d& X = V[v];
+      // Reference: the visible view that faces the vertex most; partners: the visible
+      // views at a baseline angle of texture_baseline_min..max_deg from the reference,
+      // most frontal first.
+      cand.clear();
+      for (int i = 0; i < nc; ++i) {
+        if (!vis.empty() && !vis[static_cast<size_t>(v) * nc + i]) continue;
+        const double c = n.dot((views[i].centre - X).normalized());
+        if (c >= cos_cone) cand.emplace_back(-c, i);
+      }
+      if (static_cast<int>(cand.size()) < 1 + opt.texture_min_partners) continue;
+      std::sort(cand.begin(), cand.end());
+      const int ref = cand[0].second;
+      const Eigen::Vector3d dref = (views[ref].centre - X).normalized();
+      int np = 0;
+      for (size_t q = 1; q < cand.size() && np < M; ++q) {
+        const double cb = dref.dot((views[cand[q].second].centre - X).normalized());
+        if (cb <= cos_bmin && cb >= cos_bmax) sel[np++] = cand[q].second;
+      }
+      if (np < opt.texture_min_partners) continue;
+      const double unit = fp[v];  // world length of one pixel along n
+      const double spacing = views[ref].project_h(X).z() * views[ref].inv_focal;
+      const Eigen::Vector3d a1 = photo::stable_perpendicular(n) * spacing;
       const Eigen::Vector3d a2 = n.cross(a1);
-      const auto score_at = [&](double t) {
-        photo::detail::prepare_centre(views, V[v] + t * n, popt, scratch);
-        if (opt.occlusion && !vis.empty())
-          for (int i = 0; i < nc; ++i)
-            if (!vis[static_cast<size_t>(v) * nc + i]) scratch.cache[i].usable = false;
-        photo::PatchResult r;
-        photo::detail::score_prepared(views, n, a1, &a2, popt, scratch, r);
-        return r;
-      };
-      // Offsets in "parallax pixels": a move t along n shifts what the views see on the
-      // patch plane relative to each other by t * |w_a - w_b|, w = in-plane part of the
-      // direction to the camera over its normal part. With close cameras (dense rings)
-      // the same depth resolution needs longer steps.
-      const photo::PatchResult r0 = score_at(0.0);
-      if (!r0.valid()) continue;
-      double par = 0;
-      int pairs = 0;
-      for (int a = 0; a < r0.num_views; ++a)
-        for (int b = a + 1; b < r0.num_views; ++b) {
-          const auto w = [&](int view) {
-            const Eigen::Vector3d r = (views[view].centre - V[v]).normalized();
-            const double c = std::max(r.dot(n), 0.05);
-            return Eigen::Vector3d((r - r.dot(n) * n) / c);
-          };
-          par += (w(r0.views[a]) - w(r0.views[b])).norm();
-          ++pairs;
+      // Score at offset t (pixels): mean NCC of the reference with its partners.
+      const auto score_at = [&](double t) -> float {
+        const Eigen::Vector3d Xt = X + (t * unit) * n;
+        float* r = buf.data();
+        if (!sample_patch(views[ref], grey[ref], Xt, a1, a2, mu, r)) return photo::kNoScore;
+        photo::normalize_patch(r, ns, min_std, r);
+        float sum = 0.f;
+        int cnt = 0;
+        for (int q = 0; q < np; ++q) {
+          float* p = buf.data() + static_cast<size_t>(q + 1) * ns;
+          if (!sample_patch(views[sel[q]], grey[sel[q]], Xt, a1, a2, mu, p)) continue;
+          photo::normalize_patch(p, ns, min_std, p);
+          sum += photo::ncc_normalized(r, p, ns);
+          ++cnt;
         }
-      par = std::clamp(pairs ? par / pairs : 1.0, opt.texture_min_parallax, 1.0);
-      const double unit = fp[v] / par;  // world length of one parallax pixel along n
+        return cnt >= opt.texture_min_partners ? sum / static_cast<float>(cnt) : photo::kNoScore;
+      };
+      cache.clear();
+      const auto get = [&](int key) -> float {
+        for (const auto& c : cache)
+          if (c.first == key) return c.second;
+        const float sc = score_at(key * hmin);
+        cache.emplace_back(key, sc);
+        return sc;
+      };
       int best = -1;
-      for (int j = 0; j < ns; ++j) {
-        const photo::PatchResult r = j == J ? r0 : score_at((j - J) * opt.texture_step_px * unit);
-        sc[j] = r.valid() ? r.score : photo::kNoScore;
-        if (r.valid() && (best < 0 || sc[j] > sc[best])) best = j;
+      for (int j = 0; j < nco; ++j) {
+        prof[j] = get((j - Jc) << L);
+        if (prof[j] != photo::kNoScore && (best < 0 || prof[j] > prof[best])) best = j;
       }
       if (best < 0) continue;
       TextureProbe& pr = probes[v];
-      pr.best_score = sc[best];
-      double off = best - J;
-      if (best > 0 && best < ns - 1 && sc[best - 1] != photo::kNoScore && sc[best + 1] != photo::kNoScore) {
-        const double sm = sc[best - 1], s0 = sc[best], sp = sc[best + 1];
-        const double den = sm - 2 * s0 + sp;
-        if (den < 0) off += std::clamp(0.5 * (sm - sp) / den, -0.5, 0.5);
-      }
-      off *= opt.texture_step_px;
-      pr.offset_px = static_cast<float>(off * unit / fp[v]);
-      // A clear peak: the profile drops by the contrast on both sides of it.
+      pr.best_score = prof[best];
+      // A clear peak: the coarse profile drops by the contrast on both sides of it.
       float lo_left = 2.f, lo_right = 2.f;
       for (int j = 0; j < best; ++j)
-        if (sc[j] != photo::kNoScore) lo_left = std::min(lo_left, sc[j]);
-      for (int j = best + 1; j < ns; ++j)
-        if (sc[j] != photo::kNoScore) lo_right = std::min(lo_right, sc[j]);
-      const float contrast = sc[best] - std::max(lo_left, lo_right);
-      if (sc[best] >= opt.texture_min_score && contrast >= opt.texture_min_contrast) {
-        pr.applied = true;
-        out[v] = off * unit * n;
-        pr.offset_px = static_cast<float>(off * unit / fp[v]);
+        if (prof[j] != photo::kNoScore) lo_left = std::min(lo_left, prof[j]);
+      for (int j = best + 1; j < nco; ++j)
+        if (prof[j] != photo::kNoScore) lo_right = std::min(lo_right, prof[j]);
+      const float contrast = prof[best] - std::max(lo_left, lo_right);
+      if (!(prof[best] >= opt.texture_min_score && contrast >= opt.texture_min_contrast)) continue;
+      int kb = (best - Jc) << L;
+      float sb = prof[best];
+      for (int lev = L - 1; lev >= 0; --lev) {
+        const int h = 1 << lev;
+        const float sm = get(kb - h), sp = get(kb + h);
+        if (sm != photo::kNoScore && sm > sb && !(sp != photo::kNoScore && sp > sm)) {
+          kb -= h;
+          sb = sm;
+        } else if (sp != photo::kNoScore && sp > sb) {
+          kb += h;
+          sb = sp;
+        }
       }
+      double off = kb * hmin;
+      // the parabola's neighbours (one step of hmin; at L = 0 the coarse neighbours)
+      const float fm = get(kb - 1), fp = get(kb + 1);
+      if (fm != photo::kNoScore && fp != photo::kNoScore) {
+        const double den = fm - 2.0 * sb + fp;
+        if (den < 0) off += std::clamp(0.5 * (fm - fp) / den, -0.5, 0.5) * hmin;
+      }
+      pr.best_score = sb;
+      pr.applied = true;
+      pr.offset_px = static_cast<float>(off);
+      out[v] = (off * unit) * n;
     }
   }
   return out;

@@ -70,18 +70,25 @@ struct TextureProbe {
   float best_score = -1.f;  // best score along the normal (-1: no score anywhere)
   float offset_px = 0.f;    // refined offset of the peak (pixels along the normal)
   bool applied = false;     // the peak was clear: the force moves toward it
+  bool probed = false;      // the vertex was active (its profile was measured)
 };
 
-// Texture displacement per vertex: scores the mu x mu patch (photo::score_patch, the
-// measure of the cut's face scores) at X + t n for t = -range..range (step), picks the
-// best, refines it with a parabola through its neighbours and, when the peak is clear
-// (score >= texture_min_score, contrast >= texture_min_contrast), returns offset * n.
-// The camera cone is opt.texture_cone_deg (not photo_opt.cone_deg).
-// vis (may be empty): views where the vertex is occluded are not used.
+// Texture displacement per vertex (a plane sweep along the normal). Views: among those
+// that see the vertex (vis; may be empty: all) within texture_cone_deg of its normal, the
+// reference is the most frontal one; its partners are the next most frontal views whose
+// direction lies texture_baseline_min_deg..max_deg from the reference's (wide enough for
+// depth to show, at most texture_partners of them). A texture_mu x texture_mu patch on
+// the plane through X + t n (sample spacing: one reference pixel) is sampled in each;
+// the score at t is the mean NCC of the reference with its partners. t runs over
+// -range..range pixels (of the vertex's finest view) every 2 texture_step_px (coarse),
+// then the two fine offsets beside the coarse peak; the best of these is refined by a
+// parabola. When the peak is clear (score >= texture_min_score and the coarse profile
+// drops by texture_min_contrast on both sides) the displacement is offset * n.
+// active (may be empty: all): vertices to probe; the others get no force and an empty probe.
 std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V,
                                            const std::vector<Eigen::Vector3d>& N, const std::vector<double>& fp,
                                            const photo::Views& views, const std::vector<std::uint8_t>& vis,
-                                           const Options& opt, const photo::Options& popt,
-                                           std::vector<TextureProbe>& probes);
+                                           const std::vector<std::uint8_t>& active, const Options& opt,
+                                           const photo::Options& popt, std::vector<TextureProbe>& probes);
 
 }  // namespace tetmvs::deform

@@ -126,8 +126,17 @@ std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vec
   tree.build(0, nf, cen);
   const bool filter = !only_faces.empty();
   std::vector<std::vector<int>> hits(nf);
+  // Filtered: only the listed faces are queried, against every other face; a pair of two
+  // listed faces is kept from the query of its lower face.
+  std::vector<int> query;
+  if (filter) {
+    for (int f = 0; f < nf; ++f)
+      if (only_faces[f]) query.push_back(f);
+  }
+  const int nq = filter ? static_cast<int>(query.size()) : nf;
 #pragma omp parallel for schedule(dynamic, 256)
-  for (int f = 0; f < nf; ++f) {
+  for (int qi = 0; qi < nq; ++qi) {
+    const int f = filter ? query[qi] : qi;
     int stack[128];
     int sp = 0;
     stack[sp++] = 0;
@@ -137,8 +146,8 @@ std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vec
       if (n.left < 0) {
         for (int i = n.start; i < n.start + n.count; ++i) {
           const int g = tree.prims[i];
-          if (g <= f) continue;
-          if (filter && !only_faces[f] && !only_faces[g]) continue;
+          if (g == f) continue;
+          if (filter ? (only_faces[g] && g < f) : g < f) continue;
           if (!boxes[g].overlaps(boxes[f])) continue;
           if (triangles_cross(V, F[f], F[g])) hits[f].push_back(g);
         }
@@ -148,6 +157,12 @@ std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vec
       }
     }
     std::sort(hits[f].begin(), hits[f].end());
+  }
+  if (filter) {
+    for (int f = 0; f < nf; ++f)
+      for (int g : hits[f]) out.emplace_back(std::min(f, g), std::max(f, g));
+    std::sort(out.begin(), out.end());
+    return out;
   }
   for (int f = 0; f < nf; ++f)
     for (int g : hits[f]) out.emplace_back(f, g);

@@ -22,17 +22,31 @@ void Options::check() const {
   require(finite_in(visibility_tol_px, 0, 1e6), "deform options: visibility_tol_px = ", visibility_tol_px, " must be >= 0");
   require(finite_in(texture_step_px, 1e-3, 100), "deform options: texture_step_px = ", texture_step_px,
           " must be in [0.001, 100]");
-  require(finite_in(texture_range_px, texture_step_px, 100), "deform options: texture_range_px = ", texture_range_px,
+  require(finite_in(texture_coarse_px, texture_step_px, 100), "deform options: texture_coarse_px = ", texture_coarse_px,
           " must be in [texture_step_px, 100]");
-  require(texture_range_px / texture_step_px <= 200, "deform options: texture_range_px / texture_step_px = ",
-          texture_range_px / texture_step_px, " offsets per side; at most 200");
+  require(finite_in(texture_range_px, texture_coarse_px, 100), "deform options: texture_range_px = ", texture_range_px,
+          " must be in [texture_coarse_px, 100]");
+  require(texture_range_px / texture_coarse_px <= 200, "deform options: texture_range_px / texture_coarse_px = ",
+          texture_range_px / texture_coarse_px, " offsets per side; at most 200");
   require(finite_in(texture_min_score, -1, 1), "deform options: texture_min_score = ", texture_min_score, " must be in [-1, 1]");
   require(finite_in(texture_min_contrast, 0, 2), "deform options: texture_min_contrast = ", texture_min_contrast,
           " must be in [0, 2]");
   require(finite_in(texture_cone_deg, 1, 89), "deform options: texture_cone_deg = ", texture_cone_deg,
           " must be in [1, 89] degrees");
-  require(finite_in(texture_min_parallax, 0.01, 1), "deform options: texture_min_parallax = ", texture_min_parallax,
-          " must be in [0.01, 1]");
+  require(texture_mu >= 3 && texture_mu <= 31 && texture_mu % 2 == 1, "deform options: texture_mu = ", texture_mu,
+          " must be odd, in [3, 31]");
+  require(texture_partners >= 1 && texture_partners <= 32, "deform options: texture_partners = ", texture_partners,
+          " must be in [1, 32]");
+  require(texture_min_partners >= 1 && texture_min_partners <= texture_partners,
+          "deform options: texture_min_partners = ", texture_min_partners, " must be in [1, texture_partners = ",
+          texture_partners, "]");
+  require(finite_in(texture_baseline_min_deg, 0, 89) && finite_in(texture_baseline_max_deg, texture_baseline_min_deg, 90),
+          "deform options: texture baselines ", texture_baseline_min_deg, "..", texture_baseline_max_deg,
+          " degrees must satisfy 0 <= min <= max <= 90");
+  require(finite_in(texture_settle_px, 0, 100), "deform options: texture_settle_px = ", texture_settle_px,
+          " must be in [0, 100]");
+  require(texture_recheck >= 1 && texture_recheck <= 1000, "deform options: texture_recheck = ", texture_recheck,
+          " must be in [1, 1000]");
   require(texture_start >= 0, "deform options: texture_start = ", texture_start, " must be >= 0");
   require(finite_in(max_move_px, 1e-6, 100), "deform options: max_move_px = ", max_move_px, " must be in (0, 100]");
   require(finite_in(min_edge_px, 0, 1e6) && finite_in(max_edge_px, 0, 1e6) && max_edge_px > 2 * min_edge_px,
@@ -59,10 +73,17 @@ Options Options::from_params(const Params& p) {
   o.w_texture = p.d("deform.w_texture");
   o.texture_range_px = p.d("deform.texture_range_px");
   o.texture_step_px = p.d("deform.texture_step_px");
+  o.texture_coarse_px = p.d("deform.texture_coarse_px");
   o.texture_min_score = p.d("deform.texture_min_score");
   o.texture_min_contrast = p.d("deform.texture_min_contrast");
   o.texture_cone_deg = p.d("deform.texture_cone_deg");
-  o.texture_min_parallax = p.d("deform.texture_min_parallax");
+  o.texture_mu = p.i("deform.texture_mu");
+  o.texture_partners = p.i("deform.texture_partners");
+  o.texture_min_partners = p.i("deform.texture_min_partners");
+  o.texture_baseline_min_deg = p.d("deform.texture_baseline_min_deg");
+  o.texture_baseline_max_deg = p.d("deform.texture_baseline_max_deg");
+  o.texture_settle_px = p.d("deform.texture_settle_px");
+  o.texture_recheck = p.i("deform.texture_recheck");
   o.texture_start = p.i("deform.texture_start");
   o.occlusion = p.b("deform.occlusion");
   o.max_move_px = p.d("deform.max_move_px");

@@ -9,7 +9,7 @@ class Params;
 namespace deform {
 
 struct Options {
-  int iterations = 20;            // deformation iterations
+  int iterations = 12;            // deformation iterations
   // smoothness (non-shrinking): tangential umbrella + small normal umbrella + normal bi-Laplacian
   double smooth_tangent = 0.5;    // weight of the umbrella's tangential component (mesh relaxation)
   double smooth_normal = 0.05;    // weight of the umbrella's normal component (shrinks: keep small)
@@ -22,12 +22,19 @@ struct Options {
   double visibility_tol_px = 3.0; // a vertex is visible when not behind the z-buffer by more than this (pixels)
   // texture force
   double w_texture = 0.5;         // fraction of the texture correction applied per iteration
-  double texture_range_px = 3.0;  // offsets along the normal: -range..+range pixels
-  double texture_step_px = 0.5;   // ... in steps of this
+  double texture_range_px = 5.0;  // offsets along the normal: -range..+range pixels
+  double texture_coarse_px = 1.0; // ... first every this many pixels
+  double texture_step_px = 0.5;   // ... refined down to steps of this (then a parabola)
   double texture_min_score = 0.5; // the peak score must reach this
   double texture_min_contrast = 0.03;  // ... and exceed the profile's minimum by this
   double texture_cone_deg = 75;   // camera cone of the texture patches (replaces photo.cone_deg there)
-  double texture_min_parallax = 1.0;  // floor of the parallax factor (1: offsets in plain footprints)
+  int texture_mu = 11;            // patch size in samples (one reference pixel apart)
+  int texture_partners = 4;       // views compared with the reference
+  int texture_min_partners = 2;   // fewest partners for a score
+  double texture_baseline_min_deg = 10;  // a partner's direction is at least this far from the reference's
+  double texture_baseline_max_deg = 40;  // ... and at most this far
+  double texture_settle_px = 0.25;  // a vertex whose peak is nearer than this has settled: probed again only ...
+  int texture_recheck = 3;        // ... every this many texture iterations (1: every vertex every iteration)
   int texture_start = 2;          // first iteration with the texture force (smooth the lattice facets first)
   bool occlusion = true;          // drop views in which the vertex is occluded from its patches
   // step control and remeshing

@@ -16,6 +16,10 @@ struct RemeshMesh {
   std::vector<Eigen::Vector3d> V;
   std::vector<Eigen::Vector3i> F;
   std::vector<double> fp;  // per-vertex pixel footprint (world units per pixel), > 0
+  // Optional per-vertex flag (empty: none) carried through the operations: new vertices
+  // (splits) and merged ones (collapses) get 0. deform marks vertices whose texture
+  // force has settled.
+  std::vector<std::uint8_t> settled;
 };
 
 // Length of edge (a, b) in pixels.

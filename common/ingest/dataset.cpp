@@ -12,6 +12,7 @@
 #include "common/error.h"
 #include "common/fileio.h"
 #include "common/image.h"
+#include "common/ingest/colmap.h"
 #include "common/log.h"
 #include "common/par_io.h"
 
@@ -280,13 +281,16 @@ Scene read_dataset(const fs::path& dir, const Params& p) {
   drop_degenerate_silhouettes(s);
   // bounding box
   std::string src;
-  if (auto box = read_stated_box(dir, &src)) {
+  if (auto given_box = colmap::box_param(p, "ingest.box")) {  // the ingest.box parameter wins
+    s.box = *given_box;
+    s.box_source = "given";
+  } else if (auto box = read_stated_box(dir, &src)) {
     s.box = *box;
     s.box_source = src;
   } else {
     if (s.num_silhouettes() == 0)
       fail(dir.string(), ": no bounding box stated (bbox.txt or README.txt) and no silhouettes to "
-                         "compute one from; add a bbox.txt with two lines: min x y z, max x y z");
+                         "compute one from; add a bbox.txt with two lines: min x y z, max x y z (or set ingest.box)");
     Eigen::AlignedBox3d region = camera_search_region(s.cams);
     const int res = p.i("ingest.hull_resolution");
     long vox = 0;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
@@ -85,14 +86,20 @@ namespace {
 // the smallest depth of the points photo-consistent in that view (the visible surface),
 // `back` the largest depth of the points facing away from the view (the far side of the
 // object, seen by other cameras). 0 = no point there.
+// `near` / `far` are `front` / `back` taken to their extreme over a window of about one
+// finest cell: the free-space and beyond tests use them, so a gap between the splats of
+// Q (a crossing face without a point) never lets a cell behind the surface pass for free
+// space seen through the gap.
 struct DepthMaps {
-  std::vector<cv::Mat> front, back;
+  std::vector<cv::Mat> front, back, near, far;
 };
 
 DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell) {
   DepthMaps d;
   d.front.resize(s.size());
   d.back.resize(s.size());
+  d.near.resize(s.size());
+  d.far.resize(s.size());
 #pragma omp parallel for schedule(dynamic, 1)
   for (int v = 0; v < s.size(); ++v) {
     const Camera& cam = s.cams[v];
@@ -127,6 +134,20 @@ DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell) {
     }
     d.front[v] = front;
     d.back[v] = back;
+    // window: one finest cell at the depth of the scene's centre (at least 3x3 pixels)
+    double zc = 0;
+    for (std::int64_t p = 0; p < q.size(); ++p) zc += cam.depth(q.pos(p));
+    zc = q.size() ? zc / q.size() : 1.0;
+    const int wr = std::max(1, static_cast<int>(std::ceil(cell * cam.focal() / std::max(zc, 1e-12))));
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * wr + 1, 2 * wr + 1));
+    cv::Mat f_inf = front.clone();
+    f_inf.setTo(std::numeric_limits<float>::max(), front == 0);
+    cv::Mat nearm, farm;
+    cv::erode(f_inf, nearm, kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(std::numeric_limits<float>::max()));
+    nearm.setTo(0, nearm == std::numeric_limits<float>::max());
+    cv::dilate(back, farm, kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    d.near[v] = nearm;
+    d.far[v] = farm;
   }
   return d;
 }
@@ -180,6 +201,11 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, cons
   for (std::int32_t c : candidates) is_candidate[c] = 1;
   r.inside_evidence.assign(C, 0.0f);
   r.outside_evidence.assign(C, 0.0f);
+  r.free_views.assign(C, 0);
+  r.beyond_views.assign(C, 0);
+  r.hidden_views.assign(C, 0);
+  r.seen_views.assign(C, 0);
+  const auto u8 = [](int n) { return static_cast<std::uint8_t>(std::min(n, 255)); };
   // Every free cell gets soft evidence (for the cut's optional visibility term); the
   // inactive candidates also get hard labels.
 #pragma omp parallel for schedule(dynamic, 256)
@@ -195,16 +221,22 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, cons
       const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
       if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
       const float df = depth.front[v].at<float>(w, u), db = depth.back[v].at<float>(w, u);
-      const bool is_free = df != 0 && z < df - margin, is_beyond = db != 0 && z > db + margin;
+      const float dn = depth.near[v].at<float>(w, u), dx = depth.far[v].at<float>(w, u);
+      const bool is_free = dn != 0 && z < dn - margin, is_beyond = dx != 0 && z > dx + margin;
       free_space += is_free;
       beyond += is_beyond;
       outside_views += is_free || is_beyond;
       if (df != 0 && db != 0 && z > df + margin && z < db - margin) ++sandwiched;
       ++seen;
     }
+    r.free_views[c] = u8(free_space);
+    r.beyond_views[c] = u8(beyond);
+    r.hidden_views[c] = u8(sandwiched);
+    r.seen_views[c] = u8(seen);
     if (seen > 0) {
-      r.inside_evidence[c] = static_cast<float>(sandwiched) / seen;
-      r.outside_evidence[c] = static_cast<float>(outside_views) / seen;
+      const double out = std::min(1.0, static_cast<double>(outside_views) / o.free_views);
+      r.outside_evidence[c] = static_cast<float>(out);
+      r.inside_evidence[c] = static_cast<float>((1.0 - out) * sandwiched / seen);
     }
     if (!is_candidate[c]) continue;
     // interior cells must lie wholly inside every silhouette (corners; outside an image is fine)
@@ -220,7 +252,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, cons
     const int votes = r.votes[c];
     if (in_hull && votes <= r.low_votes && free_space == 0 && beyond == 0 && sandwiched >= o.min_occluding_views)
       decided[c] = 1;
-    else if (votes > r.high_votes && votes >= o.min_exterior_votes && free_space >= 2 && sandwiched == 0)
+    else if (votes > r.high_votes && votes >= o.min_exterior_votes && outside_views >= o.free_views)
       decided[c] = -1;
   }
   for (std::int32_t c : candidates) {

@@ -17,6 +17,14 @@
 //            ray crosses) from becoming interior: some camera sees their air in front of the
 //            cavity walls' points. The far-side condition keeps unseen space behind or below
 //            the object (which ring cameras never see) from becoming interior.
+// Free space outranks occlusion: a camera that sees past a cell proves it empty, while a
+// cell hidden behind Q may be matter or an unseen cavity. A candidate seen as free space
+// (or beyond the far side) in at least `free_views` views, with votes above the upper
+// percentile, is exterior even if other views hide it (the part of a cup's cavity that
+// cameras see over the rim); the soft evidence follows the same rule (below). Cavity
+// regions no camera sees into are indistinguishable from matter in every image: they
+// stay interior-or-free by the hidden rule, and the cut closes them with a floor at the
+// edge of the seen free space.
 // Votes: every point of Q casts a ray to each camera it is photo-consistent in, starting
 // `vote_offset` cell sizes in front of the point; every cell the ray crosses gets a vote.
 // "Inactive" cells are the cells coarser than the finest level (away from the surface).
@@ -45,16 +53,22 @@ struct Options {
   int min_occluding_views = 3;  // interior needs Q depth behind it in this many views
   double vote_offset = 1.0;     // rays start this many finest cell sizes in front of a point
   double depth_margin = 2.0;    // occlusion / free-space margin, in finest cell sizes
+  int free_views = 3;           // free space seen in this many views is sure (see below)
 };
 
 struct Result {
   std::vector<std::int8_t> label;    // per cell: 1 interior, -1 exterior, 0 free
   std::vector<std::uint8_t> reason;  // Reason
   std::vector<std::int32_t> votes;
-  // Soft evidence per free cell, in [0, 1]: the share of the views (where the cell
-  // projects) in which it lies between Q's visible and far sides (inside), or in front of
-  // the visible side / beyond the far side (outside). Used by the cut's visibility term.
+  // Soft evidence per free cell, in [0, 1], for the cut's visibility term: outside =
+  // min(1, views where the cell is free space or beyond Q's far side / free_views);
+  // inside = (1 - outside) x the share of the views (where the cell projects) in which it
+  // lies between Q's visible and far sides.
   std::vector<float> inside_evidence, outside_evidence;
+  // Per free cell, the number of views in which its centre is free space (in front of the
+  // visible side of Q by the margin), beyond Q's far side, between the two (hidden), and
+  // the views where it projects into the image at all.
+  std::vector<std::uint8_t> free_views, beyond_views, hidden_views, seen_views;
   double low_votes = 0, high_votes = 0;  // the percentile values
   std::int64_t interior = 0, exterior = 0, hull_exterior = 0, boundary = 0, voted_out = 0;
   std::int64_t rays = 0;

@@ -1,6 +1,7 @@
 // Mesh HDF5 files and the .vtu export.
 #include "common/tetmesh/mesh_io.h"
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -78,7 +79,9 @@ TetMesh read_mesh(const std::filesystem::path& file) {
   const auto f = h5::File::open(file, kMeshSchema, 1, kMeshVersion);
   const std::string name = file.string();
   TetMesh m;
-  m.level = static_cast<int>(f.attr_int("/", "level"));
+  const std::int64_t level = f.attr_int("/", "level");
+  require(level >= 0 && level <= kMaxLevel, name, ": level ", level, " is outside 0..", kMaxLevel);
+  m.level = static_cast<int>(level);
   const auto o = f.attr_doubles("/", "lattice_origin");
   const auto d = f.attr_doubles("/", "lattice_dims");
   require(o.size() == 3 && d.size() == 3, name, ": lattice_origin / lattice_dims need 3 values");
@@ -86,8 +89,16 @@ TetMesh read_mesh(const std::filesystem::path& file) {
           f.attr_int("/", "lattice_bits"), ", this build uses ", kLatticeBits);
   m.lat.origin = Eigen::Vector3d(o[0], o[1], o[2]);
   m.lat.h = f.attr_double("/", "lattice_h");
-  for (int a = 0; a < 3; ++a) m.lat.dims[a] = static_cast<int>(d[a]);
-  m.num_level0 = static_cast<std::int32_t>(f.attr_int("/", "num_level0"));
+  require(m.lat.h > 0, name, ": lattice_h must be > 0");
+  for (int a = 0; a < 3; ++a) {
+    // bounded before the conversion (a huge value would overflow the cast)
+    require(d[a] >= 1 && d[a] <= kMaxDims && d[a] == std::floor(d[a]), name, ": lattice_dims must be whole numbers in 1..",
+            kMaxDims);
+    m.lat.dims[a] = static_cast<int>(d[a]);
+  }
+  const std::int64_t n0 = f.attr_int("/", "num_level0");
+  require(n0 >= 0 && n0 < (std::int64_t{1} << 31), name, ": num_level0 ", n0, " is out of range");
+  m.num_level0 = static_cast<std::int32_t>(n0);
   m.vlat = f.read<std::int32_t>("/vertices_lattice", {h5::kAny, 3}).data;
   const auto NV = static_cast<std::int64_t>(m.vlat.size() / 3);
   {
@@ -113,6 +124,19 @@ TetMesh read_mesh(const std::filesystem::path& file) {
   m.node_child = f.read_vec<std::int32_t>("/tree/first_child", NN);
   m.node_cell = f.read_vec<std::int32_t>("/tree/first_cell", NN);
   m.node_ncell = f.read_vec<std::uint8_t>("/tree/num_cells", NN);
+  // indices into the vertex array are checked before anything follows them
+  const auto vertex_ok = [&](std::int32_t v) { return v >= 0 && v < NV; };
+  for (std::size_t i = 0; i < m.vparent.size(); ++i)
+    require(m.vparent[i] == -1 || vertex_ok(m.vparent[i]), name, ": /vertex_parent row ", i / 2, " names vertex ",
+            m.vparent[i], ", the mesh has ", NV);
+  for (std::int64_t c = 0; c < NC; ++c)
+    for (const std::int32_t v : m.cell_v[c])
+      require(vertex_ok(v), name, ": /cells row ", c, " names vertex ", v, ", the mesh has ", NV);
+  for (std::int64_t n = 0; n < NN; ++n)
+    for (const std::int32_t v : m.node_v[n])
+      require(vertex_ok(v), name, ": /tree/vertices row ", n, " names vertex ", v, ", the mesh has ", NV);
+  require(NC < (std::int64_t{1} << 29) && NV < (std::int64_t{1} << 31) && NN < (std::int64_t{1} << 31), name,
+          ": too many cells, vertices or nodes for 32-bit indices");
   build_faces(m);
   const auto NF = static_cast<std::int64_t>(m.num_faces());
   const auto fc = f.read<std::int32_t>("/face_cells", {NF, 2}).data;

@@ -286,7 +286,7 @@ void check_mesh(const TetMesh& m) {
     require(m.cell_volume6_lattice(c) > 0, "mesh: cell ", c, " is not positively oriented");
     const std::int32_t nd = m.cell_node[c];
     require(nd >= 0 && nd < NN, "mesh: cell ", c, " has node ", nd, " out of range");
-    require(m.node_child[nd] < 0 && c >= m.node_cell[nd] && c < m.node_cell[nd] + m.node_ncell[nd],
+    require(m.node_child[nd] < 0 && c >= m.node_cell[nd] && c < std::int64_t{m.node_cell[nd]} + m.node_ncell[nd],
             "mesh: cell ", c, " and node ", nd, " do not point at each other");
     require((m.node_ncell[nd] == 1) == (m.cell_colour[c] == kRed), "mesh: cell ", c,
             " has the wrong colour");
@@ -294,7 +294,7 @@ void check_mesh(const TetMesh& m) {
   for (std::int32_t n = 0; n < NN; ++n) {
     const std::int32_t ch = m.node_child[n];
     if (ch >= 0) {
-      require(ch + 8 <= NN && m.node_ncell[n] == 0, "mesh: node ", n, " has bad children");
+      require(std::int64_t{ch} + 8 <= NN && m.node_ncell[n] == 0, "mesh: node ", n, " has bad children");
       for (int k = 0; k < 8; ++k)
         require(m.node_parent[ch + k] == n && m.node_level[ch + k] == m.node_level[n] + 1,
                 "mesh: node ", ch + k, " does not point back at its parent ", n);

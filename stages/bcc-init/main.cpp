@@ -1,7 +1,9 @@
 // bcc-init: the level-0 body-centred-cubic tetrahedral mesh M0 of the scene box
 // (Algorithm 1: M0 <- BuildBCCMesh(B)). Schema: schemas/mesh.md.
 #include <iostream>
+#include <sstream>
 
+#include "common/budget.h"
 #include "common/error.h"
 #include "common/scene.h"
 #include "common/stage.h"
@@ -35,6 +37,15 @@ int main(int argc, char** argv) {
       return;
     }
     require(!out.empty(), "bcc-init: --out is required (unless --print-levels)");
+    {
+      // four tets per pair of face-adjacent cubes; building and writing hold about twice the mesh
+      const double nx = lat.dims[0], ny = lat.dims[1], nz = lat.dims[2];
+      const double cells = 4 * ((nx - 1) * ny * nz + nx * (ny - 1) * nz + nx * ny * (nz - 1));
+      std::ostringstream what;
+      what << "bcc-init: " << lat.dims[0] << "x" << lat.dims[1] << "x" << lat.dims[2] << " cubes, " << cells
+           << " cells";
+      check_memory_budget(ctx.params, 2.5 * mesh_bytes(cells), what.str(), "lower mesh.cells");
+    }
     const tet::TetMesh m = tet::build_bcc(lat);
     tet::write_mesh(out, m, "bcc-init", ctx.params.values_for("bcc-init"), {scene_file});
     insp.write(m);

@@ -33,9 +33,11 @@ int main(int argc, char** argv) {
     scene.load_grey();
     const TriMesh start = read_ply(mesh_file);
     const deform::Result r = deform::deform_mesh(start, scene, opt, popt);
-    write_ply(out, r.mesh, {false, "tetmvs deform: final mesh, outward triangles, world frame"});
+    // the PLY is make's target: written last, so an interrupted run never leaves a final
+    // mesh without its statistics and picture
     deform::write_stats(stats, r, "deform", ctx.params.values_for("deform"), {scene_file, mesh_file});
     if (!png.empty()) write_png_rgb(png, render_sheet(r.mesh, scene));
+    write_ply(out, r.mesh, {false, "tetmvs deform: final mesh, outward triangles, world frame"});
     const MeshCheck chk = check_mesh(r.mesh);
     std::ostringstream os;
     os << r.mesh.nv() << " vertices, " << r.mesh.nf() << " faces, " << chk.components.size() << " components, "

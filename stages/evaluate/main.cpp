@@ -6,6 +6,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "common/budget.h"
 #include "common/error.h"
 #include "common/fileio.h"
 #include "common/image.h"
@@ -16,6 +17,8 @@
 #include "common/trimesh/evaluate.h"
 
 namespace fs = std::filesystem;
+
+constexpr double kEvalBytesPerSample = 96;
 
 namespace {
 // Cameras from a par file (image size from the first image beside it, or --size) or scene.h5.
@@ -100,6 +103,16 @@ int main(int argc, char** argv) {
     const TriMesh rec = read_ply(mesh);
     const TriMesh g = read_ply(gt);
     const std::vector<Camera> cams = load_cameras(cameras, w, h);
+    {
+      // surface samples (area / spacing^2 each): position, normal, face, distances, and for
+      // the ground truth's one visibility byte per camera; plus one depth raster per thread
+      const double s2 = o.spacing * o.spacing;
+      const double ng = total_area(g) / s2, nr = rec.nf() > 0 ? total_area(rec) / s2 : rec.nv();
+      const double bytes = ng * (kEvalBytesPerSample + static_cast<double>(cams.size())) + nr * kEvalBytesPerSample;
+      std::ostringstream what;
+      what << "evaluate: about " << ng + nr << " surface samples at eval.sample_spacing " << o.spacing;
+      check_memory_budget(p, bytes, what.str(), "raise eval.sample_spacing");
+    }
     const EvalResult r = evaluate(rec, g, cams, o);
     nlohmann::json j = to_json(r);
     j["inputs"] = {{"mesh", mesh}, {"gt", gt}, {"cameras", cameras}};

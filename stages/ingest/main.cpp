@@ -1,9 +1,11 @@
-// ingest: a dataset folder (Middlebury layout) -> scene.h5 (schemas/scene.md).
+// ingest: a dataset folder (Middlebury layout) or a COLMAP workspace/model -> scene.h5
+// (schemas/scene.md).
 // Step 1 of the pipeline: cameras, images, silhouettes, bounding box.
 #include <filesystem>
 
 #include "common/h5io.h"
 #include "common/image.h"
+#include "common/ingest/colmap.h"
 #include "common/ingest/dataset.h"
 #include "common/par_io.h"
 #include "common/scene.h"
@@ -16,15 +18,27 @@ int main(int argc, char** argv) {
   StageCli cli("ingest",
                "Reads a dataset folder (one <prefix>_par.txt, the images it names, optional "
                "silhouettes/, *_good_silhouette_images.txt, README.txt or bbox.txt) and writes "
-               "scene.h5: cameras, RGB images, silhouettes and the bounding box.");
+               "scene.h5: cameras, RGB images, silhouettes and the bounding box. A COLMAP workspace "
+               "(images/ + sparse/ or sparse/0/, text or binary model) or model folder is recognised "
+               "and read instead (docs/colmap.md).");
   std::string dir, out, sheet;
   cli.app().add_option("dataset", dir, "dataset folder")->required();
   cli.app().add_option("-o,--out", out, "output scene file (HDF5)")->required();
   cli.app().add_option("--contact-sheet", sheet, "also write a PNG of every view with its silhouette outlined");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     info("ingest: reading ", dir);
-    Scene s = read_dataset(dir, ctx.params);
-    std::vector<fs::path> inputs = {find_par_file(dir)};
+    Scene s;
+    std::vector<fs::path> inputs;
+    if (const auto layout = colmap::find_layout(dir)) {
+      info("ingest: COLMAP model ", layout->model_dir.string(), ", images in ", layout->image_dir.string());
+      s = colmap::read_scene(*layout, ctx.params);
+      const fs::path& md = layout->model_dir;
+      const bool bin = fs::exists(md / "cameras.bin") && fs::exists(md / "images.bin") && fs::exists(md / "points3D.bin");
+      for (const char* f : {"cameras", "images", "points3D"}) inputs.push_back(md / (std::string(f) + (bin ? ".bin" : ".txt")));
+    } else {
+      s = read_dataset(dir, ctx.params);
+      inputs = {find_par_file(dir)};
+    }
     auto f = h5::File::create(out);
     f.write_header(kSceneSchema, kSceneVersion, "ingest", ctx.params.values_for("ingest"), inputs);
     write_scene(f, s);

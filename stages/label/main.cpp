@@ -3,6 +3,7 @@
 // quasi-dense points Q, with an occlusion check, give interior and more exterior cells.
 #include <sstream>
 
+#include "common/budget.h"
 #include "common/error.h"
 #include "common/h5io.h"
 #include "common/label/labels.h"
@@ -14,6 +15,8 @@
 #include "common/tetmesh/slice.h"
 
 using namespace tetmvs;
+
+constexpr double kLabelBytesPerCell = 32, kLabelBytesPerPixel = 16;
 
 int main(int argc, char** argv) {
   StageCli cli("label",
@@ -28,6 +31,16 @@ int main(int argc, char** argv) {
   cli.app().add_option("--slice-png", slice, "PNG slice through the mesh coloured by label");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     const Scene scene = read_scene(scene_file, false);
+    {
+      // the mesh, per-cell results (label, reason, votes, two evidences, hull flags), and
+      // per view a few float images (depth maps of Q, distance transform of the silhouette)
+      const MeshCounts mc = mesh_counts(mesh_file);
+      const double pixels = static_cast<double>(scene.size()) * scene.cams[0].width * scene.cams[0].height;
+      const double bytes = mc.read_bytes() + kLabelBytesPerCell * mc.cells + kLabelBytesPerPixel * pixels;
+      std::ostringstream what;
+      what << "label: " << mesh_file << " (" << mc.cells << " cells, " << scene.size() << " views)";
+      check_memory_budget(ctx.params, bytes, what.str(), "use a coarser final mesh (fewer LEVELS)");
+    }
     const tet::TetMesh mesh = tet::read_mesh(mesh_file);
     auto sf = h5::File::open(scores_file, "tetmvs.scores");
     const QPoints q = read_qpoints(sf, scene.size());
@@ -39,6 +52,7 @@ int main(int argc, char** argv) {
     o.min_occluding_views = ctx.params.i("label.min_occluding_views");
     o.vote_offset = ctx.params.d("label.vote_offset");
     o.depth_margin = ctx.params.d("label.depth_margin");
+    o.free_views = ctx.params.i("label.free_views");
     info("label: ", mesh.num_cells(), " cells, ", q.size(), " points, ", scene.num_silhouettes(), " silhouettes");
     const label::Result r = label::label_cells(mesh, scene, q, o);
     require(r.interior > 0, scores_file, ": no cell could be labelled interior (too few points Q?); "
@@ -50,6 +64,10 @@ int main(int argc, char** argv) {
     f.write("/cells/votes", r.votes);
     f.write("/cells/inside_evidence", r.inside_evidence);
     f.write("/cells/outside_evidence", r.outside_evidence);
+    f.write("/cells/free_views", r.free_views);
+    f.write("/cells/beyond_views", r.beyond_views);
+    f.write("/cells/hidden_views", r.hidden_views);
+    f.write("/cells/seen_views", r.seen_views);
     f.set_attr("/", "low_votes", r.low_votes);
     f.set_attr("/", "high_votes", r.high_votes);
     f.set_attr("/", "interior", r.interior);

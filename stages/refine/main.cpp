@@ -2,7 +2,9 @@
 // MeshRefine(M_i)): red (1:8) refinement of the active cells, green closure of the rest.
 // Schema of the output: schemas/mesh.md.
 #include <iostream>
+#include <sstream>
 
+#include "common/budget.h"
 #include "common/error.h"
 #include "common/scene.h"
 #include "common/stage.h"
@@ -12,6 +14,12 @@
 #include "common/tetmesh/stage_common.h"
 
 using namespace tetmvs;
+
+// Peak bytes per cell of the refined mesh while refine builds it (the new mesh, its edge
+// map and closure work arrays, write buffers). Measured on the synthetic torus (LEVELS=3:
+// 0.74 M cells by this lower bound, 0.91 M made, peak 230 MB of which 70 MB the program):
+// the estimate is 241 MB.
+constexpr double kRefineBytesPerCell = 300;
 
 int main(int argc, char** argv) {
   StageCli cli("refine",
@@ -31,6 +39,8 @@ int main(int argc, char** argv) {
   cli.app().add_flag("--check", check, "run the full (slow) geometric conformity check on the result");
   insp.add_to(cli.app());
   return cli.run(argc, argv, [&](StageContext& ctx) {
+    check_memory_budget(ctx.params, mesh_counts(mesh_file).read_bytes(), "refine: reading " + mesh_file,
+                        "use a coarser mesh");
     const tet::TetMesh old = tet::read_mesh(mesh_file);
     Scene scene;
     if (!scene_file.empty()) scene = read_scene(scene_file, /*images=*/false);
@@ -43,6 +53,16 @@ int main(int argc, char** argv) {
     }
     require(!active_file.empty() && !out.empty(), "refine: --active and --out are required");
     const auto active = tet::read_cell_flags(active_file, dataset, old.num_cells());
+    {
+      // every active cell becomes at least 8; the closure only adds to that
+      std::int64_t na = 0;
+      for (auto a : active) na += a != 0;
+      const double cells = old.num_cells() + 7.0 * static_cast<double>(na);
+      std::ostringstream what;
+      what << "refine: " << mesh_file << " with " << na << " active cells gives at least " << cells << " cells";
+      check_memory_budget(ctx.params, static_cast<double>(old.memory_bytes()) + kRefineBytesPerCell * cells,
+                          what.str(), "refine fewer levels (make LEVELS=...) or start coarser (mesh.cells)");
+    }
     tet::RefineStats st;
     const tet::TetMesh m = tet::refine(old, active, &st);
     if (check) tet::check_conforming(m);

@@ -90,11 +90,15 @@ int main(int argc, char** argv) {
   app.add_option("--agreement-json", agree_json, "with --agreement: also write the numbers as JSON");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     const Scene scene = read_scene(scene_file, false);
-    require(scene.num_silhouettes() > 0, scene_file, ": the scene has no silhouettes; silhouette-fix needs them");
+    // Without any silhouette there is nothing to fix: the labels pass through unchanged
+    // (no constraints, attribute `note`), so that the second cut still has its input.
+    const bool pass_through = scene.num_silhouettes() == 0;
     if (!agreement.empty()) {
+      require(!pass_through, scene_file, ": the scene has no silhouettes; --agreement needs them");
       report_agreement(scene, agreement, agree_json, ctx.summary);
       return;
     }
+    const char* kNote = "no view has a silhouette: silhouette-fix skipped, labels passed through unchanged";
     require(!mesh_file.empty() && !scores_file.empty() && !labels_file.empty() && !out.empty(),
             "silhouette-fix needs --mesh, --scores, --labels and --out (or --agreement)");
     require(cut_file.empty() != surface_file.empty(), "silhouette-fix needs exactly one of --cut and --surface");
@@ -118,7 +122,7 @@ int main(int argc, char** argv) {
       s1 = read_ply(surface_file);
       inputs.push_back(surface_file);
     }
-    require(s1.nf() > 0, "silhouette-fix: the first surface is empty");
+    require(pass_through || s1.nf() > 0, "silhouette-fix: the first surface is empty");
 
     silfix::Options o;
     o.margin_px = ctx.params.d("silfix.margin_px");
@@ -129,8 +133,17 @@ int main(int argc, char** argv) {
     o.min_peak = ctx.params.d("silfix.min_peak");
     o.peak_ratio = ctx.params.d("silfix.peak_ratio");
     info("silhouette-fix: ", C, " cells, S1 ", s1.nf(), " triangles, ", scene.num_silhouettes(), " silhouettes");
-    const silfix::Result r = silfix::fix_silhouettes(mesh, scene, s1, omega, labels, reasons.data, o);
-    const SilhouetteAgreement agree = silhouette_agreement(s1, scene);
+    silfix::Result r;
+    SilhouetteAgreement agree;
+    if (pass_through) {
+      info("silhouette-fix: ", kNote);
+      r.label = labels;
+      r.reason = reasons.data;
+      r.s1_masks.resize(scene.size());
+    } else {
+      r = silfix::fix_silhouettes(mesh, scene, s1, omega, labels, reasons.data, o);
+      agree = silhouette_agreement(s1, scene);
+    }
 
     std::int64_t interior = 0, exterior = 0;
     for (auto l : r.label) interior += l > 0, exterior += l < 0;
@@ -154,6 +167,7 @@ int main(int argc, char** argv) {
     f.set_attr("/", "s1_mean_iou", agree.mean_iou);
     f.set_attr("/", "s1_mean_boundary_px", agree.mean_boundary_px);
     f.set_attr("/", "s1_p95_boundary_px", agree.p95_boundary_px);
+    if (pass_through) f.set_attr("/", "note", std::string(kNote));
     const auto& cs = r.constraints;
     f.write("/constraints/view", column<std::int32_t>(cs, [](auto& c) { return c.view; }));
     f.write("/constraints/u", column<std::int32_t>(cs, [](auto& c) { return c.u; }));
@@ -201,7 +215,7 @@ int main(int argc, char** argv) {
         pics.push_back(pic);
         caps.push_back(cap.str());
       }
-      write_png_rgb(fs::path(png_dir) / "sheet.png", silfix::contact_sheet(pics, caps));
+      if (!pics.empty()) write_png_rgb(fs::path(png_dir) / "sheet.png", silfix::contact_sheet(pics, caps));
     }
 
     std::int64_t multi = 0, weak = 0, rays = 0, strad = 0, corner = 0, none = 0;
@@ -215,6 +229,6 @@ int main(int argc, char** argv) {
        << " interior (" << rays << " rays: " << multi << " several segments, " << none << " none, " << weak
        << " weak peaks, " << corner << " corner outside); " << r.conflicts << " conflicts, " << r.already
        << " already interior";
-    ctx.summary = os.str();
+    ctx.summary = pass_through ? std::string(kNote) : os.str();
   });
 }

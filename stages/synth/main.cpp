@@ -5,6 +5,7 @@
 
 #include "common/error.h"
 #include "common/stage.h"
+#include "common/synth/colmap_export.h"
 #include "common/synth/objects.h"
 #include "common/synth/scene.h"
 
@@ -30,6 +31,16 @@ int main(int argc, char** argv) {
   app.add_option("--views", views, "number of views (par file: an evenly spaced subset; generated: default 48)");
   app.add_option("--size", size, "image size WxH (generated cameras: default 640x480; par cameras are rescaled)");
   app.add_option("--box", box, "scene box 'minx miny minz maxx maxy maxz' (overrides the dataset's box)");
+  std::string colmap_dir;
+  synth::ColmapExportOptions cx;
+  bool colmap_no_sil = false;
+  app.add_option("--colmap", colmap_dir, "also export the scene as a COLMAP workspace here: images/, sparse/ (cameras, "
+                                         "images, points3D = ground-truth surface points and their projections), "
+                                         "silhouettes/, gt.ply (docs/colmap.md)");
+  app.add_option("--colmap-points", cx.points, "surface points drawn for points3D (those seen by fewer than 2 views are dropped)")
+      ->check(CLI::Range(1, 10000000));
+  app.add_flag("--colmap-binary", cx.binary, "write the binary model (.bin) instead of the text one");
+  app.add_flag("--colmap-no-silhouettes", colmap_no_sil, "leave silhouettes/ out of the COLMAP workspace");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     Params& p = ctx.params;
     if (texture >= 0) p.set("synth.texture=" + std::to_string(texture));
@@ -71,6 +82,13 @@ int main(int argc, char** argv) {
     info("synth: wrote ", meta["views"].get<int>(), " views of '", object, "' to ", out);
     std::ostringstream s;
     s << "views=" << meta["views"] << " faces=" << meta["gt"]["faces"];
+    if (!colmap_dir.empty()) {
+      cx.seed = c.seed;
+      cx.silhouettes = !colmap_no_sil;
+      const nlohmann::json e = synth::export_colmap(out, colmap_dir, cx);
+      info("synth: COLMAP workspace ", colmap_dir, ": ", e.dump());
+      s << " colmap_points=" << e["points"] << " colmap_observations=" << e["observations"];
+    }
     ctx.summary = s.str();
   });
 }

@@ -137,6 +137,137 @@ def matrix(stage, argv_of, slots, outputs, tmp, extra_cases=()):
         run_case(stage, argv_of(valid) + argv_extra, outputs, words, what)
 
 
+# ---- memory budget (common/budget.h): a budget too small for the problem must stop the
+# stage before its big allocations, naming the estimate, the budget and what to change ----
+def budget_cases(run, tmp, out_dir, have):
+    scene, mesh0 = os.path.join(run, "scene.h5"), os.path.join(run, "mesh_0.h5")
+    tiny = ["--set", "resource.memory_gb=0.001"]  # 1 MiB
+    words = ["memory budget", "1.02 MiB", "resource.memory_gb"]
+    out = os.path.join(out_dir, "mesh_0.h5")
+    run_case("bcc-init", ["--scene", scene, "--out", out] + tiny, [out], words + ["bcc-init", "mesh.cells"],
+             "budget: 1 MiB")
+    act = os.path.join(tmp, "budget_active.h5")
+    with h5py.File(mesh0) as f:
+        nc = f["cells"].shape[0]
+    with h5py.File(act, "w") as f:
+        a = np.zeros(nc, np.uint8)
+        a[: nc // 2] = 1
+        f["cells/active"] = a
+    out = os.path.join(out_dir, "mesh_1.h5")
+    refine = ["--mesh", mesh0, "--active", act, "--out", out]
+    run_case("refine", refine + tiny, [out], words + ["mesh_0.h5"], "budget: 1 MiB (reading)")
+    # a budget the input fits in but not the refined mesh: the second estimate refuses
+    run_case("refine", refine + ["--set", "resource.memory_gb=0.01"], [out],
+             ["memory budget", "active cells", "LEVELS"], "budget: 10 MiB (refined mesh)")
+    old = os.environ.get("TETMVS_MEMORY_GB")
+    try:
+        os.environ["TETMVS_MEMORY_GB"] = "0.001"
+        run_case("refine", refine, [out], ["memory budget", "TETMVS_MEMORY_GB"], "budget from the environment")
+        os.environ["TETMVS_MEMORY_GB"] = "plenty"
+        run_case("refine", refine, [out], ["TETMVS_MEMORY_GB", "plenty"], "budget: environment not a number")
+    finally:
+        if old is None:
+            os.environ.pop("TETMVS_MEMORY_GB", None)
+        else:
+            os.environ["TETMVS_MEMORY_GB"] = old
+    run_case("refine", refine + ["--set", "resource.memory_gb=0"], [out], ["resource.memory_gb", "minimum"],
+             "budget: parameter out of range")
+    data = os.path.join(tiny_run.paths(BIN)["synth_dir"], tiny_run.SCENE)
+    gt = os.path.join(data, "gt.ply")
+    out = os.path.join(out_dir, "eval.json")
+    run_case("evaluate", ["--mesh", gt, "--gt", gt, "--cameras", scene, "--out", out, "--set",
+                          "eval.sample_spacing=1e-6"], [out], ["memory budget", "eval.sample_spacing"],
+             "budget: sample spacing far too fine")
+    if {"photoconsist", "label", "cut"} <= have:
+        full = tiny_run.build(BIN, SRC, "cut1")
+        L = max(int(p[5:-3]) for p in os.listdir(full) if p.startswith("mesh_") and p.endswith(".h5"))
+        meshL = os.path.join(full, f"mesh_{L}.h5")
+        scores, labels = os.path.join(full, "scores.h5"), os.path.join(full, "labels.h5")
+        out, ply = os.path.join(out_dir, "cut.h5"), os.path.join(out_dir, "cut.ply")
+        run_case("cut", ["--mesh", meshL, "--scores", scores, "--labels", labels, "--out", out, "--ply", ply] + tiny,
+                 [out, ply], words + ["cut", "edges"], "budget: 1 MiB")
+        out = os.path.join(out_dir, "labels.h5")
+        run_case("label", ["--scene", scene, "--mesh", meshL, "--scores", scores, "--out", out] + tiny,
+                 [out], words + ["label", "cells"], "budget: 1 MiB")
+
+
+# ---- COLMAP workspaces (tests/e2e/test_colmap.py has the working ones) ----
+def colmap_mutation(name, edit, words):
+    """Copies the workspace, applies edit(ws) and expects `words` in the one error line."""
+    def f(src, tmp):
+        ws = os.path.join(tmp, "ws_" + name)
+        shutil.copytree(src, ws)
+        edit(ws)
+        return ws, words
+    f.__name__ = "colmap_" + name
+    return f
+
+
+def _rewrite(path, fn):
+    lines = open(path).read().split("\n")
+    open(path, "w").write("\n".join(fn(lines)))
+
+
+def _first_data(lines):
+    return next(i for i, l in enumerate(lines) if l and not l.startswith("#"))
+
+
+def _unknown_model(ws):
+    _rewrite(os.path.join(ws, "sparse", "cameras.txt"),
+             lambda ls: [l.replace(" PINHOLE ", " KANNALA_X ") for l in ls])
+
+
+def _foreign_image(ws):
+    _rewrite(os.path.join(ws, "sparse", "points3D.txt"), lambda ls: ls[:-1] + ["999999 0 0 0 1 2 3 0.5 77 0", ""])
+
+
+def _malformed(ws):
+    def fn(ls):
+        i = _first_data(ls)
+        f = ls[i].split()
+        f[1] = "0.7x"
+        ls[i] = " ".join(f)
+        return ls
+    _rewrite(os.path.join(ws, "sparse", "images.txt"), fn)
+
+
+def _missing_image(ws):
+    os.remove(os.path.join(ws, "images", "torus0003.png"))
+
+
+def _truncated_bin(ws):
+    sp = os.path.join(ws, "sparse")
+    subprocess.run([os.path.join(BIN, "synth"), "--object", "torus", "--cameras", "ring", "--views", "4",
+                    "--size", "64x48", "--out", os.path.join(ws, "mb"), "--colmap", os.path.join(ws, "b"),
+                    "--colmap-binary", "-q"], check=True, capture_output=True)
+    for f in ["cameras.bin", "images.bin", "points3D.bin"]:
+        shutil.copy(os.path.join(ws, "b", "sparse", f), sp)
+    data = open(os.path.join(sp, "points3D.bin"), "rb").read()
+    open(os.path.join(sp, "points3D.bin"), "wb").write(data[: len(data) - 5])
+
+
+def colmap_cases(out_dir, tmp):
+    src = os.path.join(tmp, "colmap_src")
+    r = subprocess.run([os.path.join(BIN, "synth"), "--object", "torus", "--cameras", "ring", "--views", "6",
+                        "--size", "96x72", "--out", os.path.join(src, "mb"), "--colmap", os.path.join(src, "ws"), "-q"],
+                       capture_output=True, text=True)
+    expect(r.returncode == 0, f"synth --colmap failed: {r.stderr.strip()}")
+    if r.returncode:
+        return
+    ws = os.path.join(src, "ws")
+    out = os.path.join(out_dir, "scene_colmap.h5")
+    # image lines start at line 5 of images.txt (four comment lines); torus0003 is the third image
+    matrix("ingest", lambda i: [i["ws"], "-o", out],
+           {"ws": (ws, [colmap_mutation("missing_image", _missing_image, ["torus0003.png", "images.txt:9", "missing"]),
+                        colmap_mutation("unknown_model", _unknown_model, ["cameras.txt:4", "KANNALA_X", "unknown camera model"]),
+                        colmap_mutation("foreign_image", _foreign_image, ["points3D.txt", "image 77"]),
+                        colmap_mutation("malformed", _malformed, ["images.txt:5", "0.7x"]),
+                        colmap_mutation("truncated_bin", _truncated_bin, ["points3D.bin", "truncated"])])},
+           [out], tmp,
+           [(["--set", "ingest.roi=1,2,3"], ["ingest.roi", "six numbers"], "roi malformed"),
+            (["--set", "ingest.points_percentile=30"], ["ingest.points_percentile", "maximum"], "percentile above range")])
+
+
 def main():
     have = {s for s in tiny_run.stages(SRC) if os.path.exists(os.path.join(BIN, s))}
     run = tiny_run.build(BIN, SRC, "mesh")
@@ -177,6 +308,8 @@ def main():
                [(["--set", "ingest.sil_threshold=1.5"], ["ingest.sil_threshold", "maximum"], "threshold above range"),
                 (["--set", "ingest.sil_dilate=-1"], ["ingest.sil_dilate", "minimum"], "dilate below range"),
                 (["--params", os.path.join(tmp, "nope.json")], ["nope.json"], "missing params file")])
+        # ingest: broken COLMAP models (a workspace exported by synth --colmap, then mutated)
+        colmap_cases(out_dir, tmp)
         # evaluate: PLY inputs
         gt = os.path.join(data, "gt.ply")
         out = os.path.join(out_dir, "eval.json")
@@ -209,6 +342,7 @@ def main():
                                                    m_dataset("/points/cams", "dtype")])},
                    [out], tmp,
                    [(["--set", "label.low_percentile=101"], ["label.low_percentile", "maximum"], "percentile out of range")])
+        budget_cases(run, tmp, out_dir, have)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     print(f"bad-input cases: {cases}")

@@ -188,10 +188,34 @@ TEST(DeformIntersect, CleanMeshesHaveNoneAndAPushedVertexMakesSome) {
   const auto pairs = self_intersections(s.V, s.F);
   EXPECT_GT(pairs.size(), 0u);
   for (const auto& p : pairs) EXPECT_LT(p.first, p.second);
-  // filtering to faces away from the pushed vertex finds fewer or equal
-  std::vector<char> only(s.nf(), 0);
-  only[0] = 1;
-  EXPECT_LE(self_intersections(s.V, s.F, only).size(), pairs.size());
+  // filtered: exactly the full result's pairs that touch a flagged face (deform rechecks
+  // only the faces it changed and keeps the rest)
+  for (int stride : {1, 2, 7}) {
+    std::vector<char> only(s.nf(), 0);
+    for (size_t f = 0; f < s.nf(); f += stride) only[f] = 1;
+    std::vector<std::pair<int, int>> expect;
+    for (const auto& p : pairs)
+      if (only[p.first] || only[p.second]) expect.push_back(p);
+    EXPECT_EQ(self_intersections(s.V, s.F, only), expect) << stride;
+  }
+  std::vector<char> none(s.nf(), 0);
+  EXPECT_TRUE(self_intersections(s.V, s.F, none).empty());
+}
+
+TEST(DeformRemesh, SettledFlagsFollowTheVertices) {
+  RemeshMesh m = from_trimesh(synth::make_sphere(0.5), 0.1);
+  m.settled.assign(m.V.size(), 1);
+  const size_t nv0 = m.V.size();
+  const std::int64_t splits = split_long_edges(m, 2.0);
+  ASSERT_GT(splits, 0);
+  ASSERT_EQ(m.settled.size(), m.V.size());
+  for (size_t v = 0; v < m.V.size(); ++v) EXPECT_EQ(m.settled[v], v < nv0 ? 1 : 0) << v;
+  collapse_short_edges(m, 1.5, 0.2, 4.0);
+  ASSERT_EQ(m.settled.size(), m.V.size());
+  int zeros = 0;
+  for (auto x : m.settled) zeros += x == 0;
+  EXPECT_GT(zeros, 0);
+  EXPECT_LT(zeros, static_cast<int>(m.V.size()));
 }
 
 TEST(DeformSilhouette, SignedDistanceIsZeroOnTheBoundary) {
@@ -239,5 +263,20 @@ TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   EXPECT_THROW(bad.check(), Error);
   bad = o;
   bad.texture_step_px = 0;
+  EXPECT_THROW(bad.check(), Error);
+  bad = o;
+  bad.texture_mu = 8;  // even
+  EXPECT_THROW(bad.check(), Error);
+  bad = o;
+  bad.texture_min_partners = bad.texture_partners + 1;
+  EXPECT_THROW(bad.check(), Error);
+  bad = o;
+  bad.texture_baseline_max_deg = bad.texture_baseline_min_deg - 1;
+  EXPECT_THROW(bad.check(), Error);
+  bad = o;
+  bad.texture_coarse_px = 0.5 * bad.texture_step_px;
+  EXPECT_THROW(bad.check(), Error);
+  bad = o;
+  bad.texture_recheck = 0;
   EXPECT_THROW(bad.check(), Error);
 }
