@@ -94,6 +94,26 @@ void BM_ScorePoint(benchmark::State& st) {
 }
 BENCHMARK(BM_ScorePoint)->Arg(5)->Arg(6)->Arg(8);
 
+// The photoconsist lattice-point kernel with the stage's defaults: 1 x 21 line
+// (photo.line_mu), best 12 cameras (photo.line_k, adaptive), 14 orientations.
+void BM_ScorePointLine(benchmark::State& st) {
+  const Views& v = ring_views();
+  const Points& p = points();
+  Options o;
+  o.mu = static_cast<int>(st.range(0));
+  o.k = static_cast<int>(st.range(1));
+  o.adaptive_k = true;
+  Scratch scratch;
+  size_t i = 0;
+  for (auto _ : st) {
+    benchmark::DoNotOptimize(score_point(v, p.X[i], p.nf[i], o, scratch));
+    i = (i + 1) % p.X.size();
+  }
+  st.SetItemsProcessed(st.iterations());
+  st.SetLabel("lattice points (1 x mu line, k cameras, 14 orientations)");
+}
+BENCHMARK(BM_ScorePointLine)->Args({21, 12})->Args({11, 5});
+
 void BM_ScorePointsBatch(benchmark::State& st) {
   const Views& v = ring_views();
   const Points& p = points();

@@ -8,6 +8,7 @@
 # Environment: BUILD_DIR (default build), OBJECT (default torus), LEVELS (default: as many
 # as bcc-init --print-levels says), THREADS (default: all cores), EXTRA (extra photoconsist
 # arguments, e.g. "--set photo.T=0.9"). The scene is rendered once into WORK_DIR/scene.
+# CPU seconds (user + system), wall seconds and peak RSS come from /usr/bin/time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
@@ -36,10 +37,13 @@ LEVELS=${LEVELS:-$("$BIN/bcc-init" -q --scene "$SCENE/scene.h5" --print-levels 2
 
 RECORDS=$WORK/records.txt
 : > "$RECORDS"
-run() {  # run LABEL CMD... : appends "LABEL<TAB>summary line" to RECORDS
+run() {  # run LABEL CMD... : appends "LABEL<TAB>summary line cpu_seconds=... wall_seconds=..." to RECORDS
   local label=$1; shift
-  local log
-  log=$("$@" --threads "$THREADS" -q 2>&1 | tail -1)
+  local log tm
+  tm=$(mktemp)
+  log=$(/usr/bin/time -f "%U %S %e %M" -o "$tm" "$@" --threads "$THREADS" -q 2>&1 | tail -1)
+  log="$log $(awk '{printf "cpu_seconds=%.2f wall_seconds=%.2f maxrss_mb=%.1f", $1 + $2, $3, $4 / 1024}' "$tm")"
+  rm -f "$tm"
   echo "$log" >&2
   printf '%s\t%s\n' "$label" "$log" >> "$RECORDS"
 }

@@ -13,8 +13,9 @@ void Scratch::reserve(int nv, const Options& opts) {
   mu = opts.mu;
   cache.assign(nv, ViewCache{});
   cand.assign(nv, Candidate{});
-  samples.assign(static_cast<size_t>(k) * mu * mu, 0.f);
-  corr.assign(static_cast<size_t>(k) * k, 0.f);
+  lanes = (k + 3) / 4 * 4;
+  samples.assign(static_cast<size_t>(lanes) * mu * mu, 0.f);
+  corr.assign(static_cast<size_t>(lanes) * lanes, 0.f);
   views.assign(k, -1);
   row.assign(k, 0.f);
   row_idx.assign(k, -1);

@@ -1,7 +1,12 @@
 #include "common/photo/patch.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "common/image.h"
 #include "common/photo/camera_select.h"
@@ -12,31 +17,219 @@ namespace tetmvs::photo {
 namespace detail {
 
 namespace {
-// Samples the patch in one view into row (mu or mu*mu values). False when a sample is
-// behind the camera or outside the image.
-bool sample_view(const View& v, const Eigen::Vector3d& h0, const Eigen::Vector3d& b1,
-                 const Eigen::Vector3d* b2, int mu, float* row) {
-  const int c = mu / 2;
-  if (!b2) {
-    for (int i = 0; i < mu; ++i) {
-      const Eigen::Vector3d h = h0 + static_cast<double>(i - c) * b1;
-      if (!(h.z() > 0)) return false;
-      const double iw = 1.0 / h.z();
-      if (!sample_bilinear(v.grey, h.x() * iw, h.y() * iw, row[i])) return false;
-    }
+
+// The kernel below is written so that every float and double operation is the one of
+// the straightforward formulation (per view: sample, normalize_patch; per pair:
+// ncc_normalized), in the same order, so results are bit-identical to it
+// (docs/photo.md, "Speed"). Only the layout and the loop order differ:
+//   - samples are stored transposed, S[i * L + view slot] (L = k rounded up to 4), so
+//     the normalization of all views and each row of the NCC matrix are computed for
+//     4 views at a time in SIMD lanes, each lane summing over i in the same order as
+//     the scalar loops (no reassociation);
+//   - bilinear sampling takes a fast path (truncation instead of floor) when the
+//     sample is strictly inside the image, which is exactly floor there.
+
+// Bilinear sample at (u, v), as sample_bilinear of common/image.h. Returns false outside.
+inline bool sample_fast(const float* data, std::size_t step, int width, int height, const cv::Mat& img,
+                        double u, double v, float& out) {
+  if (u >= 0.0 && v >= 0.0 && u < static_cast<double>(width - 1) && v < static_cast<double>(height - 1)) {
+    // 0 <= u < width - 1: floor(u) == int(u), and u0 + 1 <= width - 1 is inside.
+    const int u0 = static_cast<int>(u), v0 = static_cast<int>(v);
+    const float a = static_cast<float>(u - u0), b = static_cast<float>(v - v0);
+    const float* r0 = data + static_cast<std::size_t>(v0) * step + u0;
+    const float* r1 = r0 + step;
+    out = (1 - b) * ((1 - a) * r0[0] + a * r0[1]) + b * ((1 - a) * r1[0] + a * r1[1]);
     return true;
   }
+  return sample_bilinear(img, u, v, out);  // last row/column, outside, NaN
+}
+
+// Samples the line h0 + (i - c) b1, i = 0..mu-1, into col[i * L]. False when a sample is
+// behind the camera or outside the image.
+bool sample_line(const View& v, const Eigen::Vector3d& h0, const Eigen::Vector3d& b1, int mu, float* col,
+                 int L) {
+  const int c = mu / 2;
+  const float* data = v.grey.ptr<float>(0);
+  const std::size_t step = v.grey.step1();
+#if defined(__SSE2__)
+  alignas(16) double us[kMaxMu + 1], vs[kMaxMu + 1];
+  // Projection, two samples per step; each lane does the scalar operations
+  // h = h0 + t b1, iw = 1 / hz, u = hx iw, v = hy iw.
+  unsigned front = 0;
+  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0);
+  const __m128d h0x = _mm_set1_pd(h0.x()), h0y = _mm_set1_pd(h0.y()), h0z = _mm_set1_pd(h0.z());
+  const __m128d bx = _mm_set1_pd(b1.x()), by = _mm_set1_pd(b1.y()), bz = _mm_set1_pd(b1.z());
+  for (int i = 0; i < mu; i += 2) {
+    const __m128d t = _mm_set_pd(static_cast<double>(i + 1 - c), static_cast<double>(i - c));
+    const __m128d hx = _mm_add_pd(h0x, _mm_mul_pd(t, bx));
+    const __m128d hy = _mm_add_pd(h0y, _mm_mul_pd(t, by));
+    const __m128d hz = _mm_add_pd(h0z, _mm_mul_pd(t, bz));
+    front |= static_cast<unsigned>(_mm_movemask_pd(_mm_cmpgt_pd(hz, zero))) << i;
+    const __m128d iw = _mm_div_pd(one, hz);
+    _mm_store_pd(us + i, _mm_mul_pd(hx, iw));
+    _mm_store_pd(vs + i, _mm_mul_pd(hy, iw));
+  }
+  const unsigned all = (1u << mu) - 1u;  // mu <= kMaxMu = 31
+  if ((front & all) != all) return false;
+  // Bilinear sampling, four samples per step when all four are strictly inside the image.
+  const __m128d w1 = _mm_set1_pd(static_cast<double>(v.width - 1)),
+                hm1 = _mm_set1_pd(static_cast<double>(v.height - 1));
+  const __m128 onef = _mm_set1_ps(1.f);
+  int i = 0;
+  for (; i + 4 <= mu; i += 4) {
+    const __m128d ua = _mm_load_pd(us + i), ub = _mm_load_pd(us + i + 2);
+    const __m128d va = _mm_load_pd(vs + i), vb = _mm_load_pd(vs + i + 2);
+    const __m128d ina = _mm_and_pd(_mm_and_pd(_mm_cmpge_pd(ua, zero), _mm_cmpge_pd(va, zero)),
+                                   _mm_and_pd(_mm_cmplt_pd(ua, w1), _mm_cmplt_pd(va, hm1)));
+    const __m128d inb = _mm_and_pd(_mm_and_pd(_mm_cmpge_pd(ub, zero), _mm_cmpge_pd(vb, zero)),
+                                   _mm_and_pd(_mm_cmplt_pd(ub, w1), _mm_cmplt_pd(vb, hm1)));
+    if ((_mm_movemask_pd(ina) & _mm_movemask_pd(inb)) != 3) {
+      for (int q = i; q < i + 4; ++q)
+        if (!sample_fast(data, step, v.width, v.height, v.grey, us[q], vs[q], col[static_cast<std::size_t>(q) * L]))
+          return false;
+      continue;
+    }
+    // Inside: truncation == floor.
+    const __m128i iua = _mm_cvttpd_epi32(ua), iub = _mm_cvttpd_epi32(ub);
+    const __m128i iva = _mm_cvttpd_epi32(va), ivb = _mm_cvttpd_epi32(vb);
+    const __m128 a = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(ua, _mm_cvtepi32_pd(iua))),
+                                   _mm_cvtpd_ps(_mm_sub_pd(ub, _mm_cvtepi32_pd(iub))));
+    const __m128 b = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(va, _mm_cvtepi32_pd(iva))),
+                                   _mm_cvtpd_ps(_mm_sub_pd(vb, _mm_cvtepi32_pd(ivb))));
+    alignas(16) int iu[4], iv[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(iu), _mm_unpacklo_epi64(iua, iub));
+    _mm_store_si128(reinterpret_cast<__m128i*>(iv), _mm_unpacklo_epi64(iva, ivb));
+    alignas(16) float p00[4], p01[4], p10[4], p11[4];
+    for (int q = 0; q < 4; ++q) {
+      const float* r0 = data + static_cast<std::size_t>(iv[q]) * step + iu[q];
+      p00[q] = r0[0];
+      p01[q] = r0[1];
+      p10[q] = r0[step];
+      p11[q] = r0[step + 1];
+    }
+    const __m128 oma = _mm_sub_ps(onef, a), omb = _mm_sub_ps(onef, b);
+    const __m128 top = _mm_add_ps(_mm_mul_ps(oma, _mm_load_ps(p00)), _mm_mul_ps(a, _mm_load_ps(p01)));
+    const __m128 bot = _mm_add_ps(_mm_mul_ps(oma, _mm_load_ps(p10)), _mm_mul_ps(a, _mm_load_ps(p11)));
+    alignas(16) float o[4];
+    _mm_store_ps(o, _mm_add_ps(_mm_mul_ps(omb, top), _mm_mul_ps(b, bot)));
+    for (int q = 0; q < 4; ++q) col[static_cast<std::size_t>(i + q) * L] = o[q];
+  }
+  for (; i < mu; ++i)
+    if (!sample_fast(data, step, v.width, v.height, v.grey, us[i], vs[i], col[static_cast<std::size_t>(i) * L]))
+      return false;
+  return true;
+#else
+  double us[kMaxMu], vs[kMaxMu];
+  bool front = true;
+  for (int i = 0; i < mu; ++i) {
+    const double t = static_cast<double>(i - c);
+    const double hx = h0.x() + t * b1.x(), hy = h0.y() + t * b1.y(), hz = h0.z() + t * b1.z();
+    front = front && (hz > 0);
+    const double iw = 1.0 / hz;
+    us[i] = hx * iw;
+    vs[i] = hy * iw;
+  }
+  if (!front) return false;
+  for (int i = 0; i < mu; ++i)
+    if (!sample_fast(data, step, v.width, v.height, v.grey, us[i], vs[i], col[static_cast<std::size_t>(i) * L]))
+      return false;
+  return true;
+#endif
+}
+
+// Samples the mu x mu grid h0 + (j - c) b2 + (i - c) b1 into col[(j mu + i) L].
+bool sample_grid(const View& v, const Eigen::Vector3d& h0, const Eigen::Vector3d& b1, const Eigen::Vector3d& b2,
+                 int mu, float* col, int L) {
+  const int c = mu / 2;
+  const float* data = v.grey.ptr<float>(0);
+  const std::size_t step = v.grey.step1();
   for (int j = 0; j < mu; ++j) {
-    const Eigen::Vector3d hj = h0 + static_cast<double>(j - c) * (*b2);
+    const Eigen::Vector3d hj = h0 + static_cast<double>(j - c) * b2;
     for (int i = 0; i < mu; ++i) {
       const Eigen::Vector3d h = hj + static_cast<double>(i - c) * b1;
       if (!(h.z() > 0)) return false;
       const double iw = 1.0 / h.z();
-      if (!sample_bilinear(v.grey, h.x() * iw, h.y() * iw, row[j * mu + i])) return false;
+      if (!sample_fast(data, step, v.width, v.height, v.grey, h.x() * iw, h.y() * iw,
+                       col[static_cast<std::size_t>(j * mu + i) * L]))
+        return false;
     }
   }
   return true;
 }
+
+// normalize_patch (ncc.h) of the first `used` columns of S (ns rows, L lanes), in place.
+void normalize_columns(float* S, int ns, int L, int used, float min_std) {
+  float mean[kMaxK + 3], ss[kMaxK + 3], inv[kMaxK + 3];
+  for (int l = 0; l < L; ++l) mean[l] = 0.f, ss[l] = 0.f;
+  for (int i = 0; i < ns; ++i) {
+    const float* r = S + static_cast<std::size_t>(i) * L;
+    for (int l = 0; l < L; ++l) mean[l] += r[l];
+  }
+  const float fn = static_cast<float>(ns);
+  for (int l = 0; l < L; ++l) mean[l] /= fn;
+  for (int i = 0; i < ns; ++i) {
+    float* r = S + static_cast<std::size_t>(i) * L;
+    for (int l = 0; l < L; ++l) {
+      const float c = r[l] - mean[l];
+      r[l] = c;
+      ss[l] += c * c;
+    }
+  }
+  const float thr = fn * min_std * min_std;
+  bool constant = false;
+  for (int l = 0; l < L; ++l) {
+    const bool ok = (ss[l] > thr) && !(ss[l] <= 0.f);
+    inv[l] = ok ? 1.f / std::sqrt(ss[l]) : 0.f;
+    constant = constant || (!ok && l < used);
+  }
+  for (int i = 0; i < ns; ++i) {
+    float* r = S + static_cast<std::size_t>(i) * L;
+    for (int l = 0; l < L; ++l) r[l] *= inv[l];
+  }
+  if (constant)  // exact zeros (not -0) for constant patches, as normalize_patch writes
+    for (int l = 0; l < used; ++l)
+      if (inv[l] == 0.f)
+        for (int i = 0; i < ns; ++i) S[static_cast<std::size_t>(i) * L + l] = 0.f;
+}
+
+// C[a * L + b] = clamp(sum_i S[i][a] S[i][b], -1, 1) for a < b < used (the sum in order of
+// i, as ncc_normalized), mirrored to C[b * L + a]. The diagonal is left unspecified.
+void correlate(const float* S, int ns, int L, int used, float* C) {
+#if defined(__SSE2__)
+  const __m128 lo = _mm_set1_ps(-1.f), hi = _mm_set1_ps(1.f);
+  const int nc = L / 4;
+  for (int a = 0; a + 1 < used; ++a) {
+    const int c0 = a / 4;
+    __m128 acc[kMaxK / 4];
+    for (int q = c0; q < nc; ++q) acc[q] = _mm_setzero_ps();
+    for (int i = 0; i < ns; ++i) {
+      const float* r = S + static_cast<std::size_t>(i) * L;
+      const __m128 s = _mm_set1_ps(r[a]);
+      for (int q = c0; q < nc; ++q) acc[q] = _mm_add_ps(acc[q], _mm_mul_ps(s, _mm_loadu_ps(r + 4 * q)));
+    }
+    // clamp as std::clamp(x, -1, 1): x < -1 ? -1 : (1 < x ? 1 : x)
+    for (int q = c0; q < nc; ++q) {
+      const __m128 x = acc[q];
+      __m128 y = _mm_or_ps(_mm_and_ps(_mm_cmplt_ps(hi, x), hi), _mm_andnot_ps(_mm_cmplt_ps(hi, x), x));
+      y = _mm_or_ps(_mm_and_ps(_mm_cmplt_ps(x, lo), lo), _mm_andnot_ps(_mm_cmplt_ps(x, lo), y));
+      _mm_storeu_ps(C + static_cast<std::size_t>(a) * L + 4 * q, y);
+    }
+  }
+#else
+  for (int a = 0; a + 1 < used; ++a) {
+    float acc[kMaxK];
+    for (int b = a + 1; b < used; ++b) acc[b] = 0.f;
+    for (int i = 0; i < ns; ++i) {
+      const float* r = S + static_cast<std::size_t>(i) * L;
+      for (int b = a + 1; b < used; ++b) acc[b] += r[a] * r[b];
+    }
+    for (int b = a + 1; b < used; ++b) C[a * L + b] = std::clamp(acc[b], -1.f, 1.f);
+  }
+#endif
+  for (int a = 0; a < used; ++a)
+    for (int b = a + 1; b < used; ++b) C[b * L + a] = C[a * L + b];
+}
+
 }  // namespace
 
 void score_prepared(const Views& views, const Eigen::Vector3d& n, const Eigen::Vector3d& a1,
@@ -56,6 +249,8 @@ void score_prepared(const Views& views, const Eigen::Vector3d& n, const Eigen::V
 
   const int mu = opts.mu;
   const int ns = a2 ? mu * mu : mu;
+  const int L = s.lanes;
+  float* S = s.samples.data();
   const Eigen::Vector3d d1 = a1 * spacing;
   const Eigen::Vector3d d2 = a2 ? Eigen::Vector3d(*a2 * spacing) : Eigen::Vector3d::Zero();
   int used = 0;
@@ -69,46 +264,75 @@ void score_prepared(const Views& views, const Eigen::Vector3d& n, const Eigen::V
     const int v = s.cand[ci].view;
     const View& view = views[v];
     const Eigen::Vector3d b1 = view.project_dir(d1);
-    const Eigen::Vector3d b2 = view.project_dir(d2);
-    float* row = s.samples.data() + static_cast<size_t>(used) * ns;
-    if (!sample_view(view, s.cache[v].h0, b1, a2 ? &b2 : nullptr, mu, row)) continue;
-    normalize_patch(row, ns, static_cast<float>(opts.min_std), row);
+    const bool ok = a2 ? sample_grid(view, s.cache[v].h0, b1, view.project_dir(d2), mu, S + used, L)
+                       : sample_line(view, s.cache[v].h0, b1, mu, S + used, L);
+    if (!ok) continue;
     s.views[used++] = v;
   }
   if (used < need) return;
   if (opts.adaptive_k && used < k) kp = std::max(used / 2, 3);
 
-  // Pairwise NCC (symmetric).
+  normalize_columns(S, ns, L, used, static_cast<float>(opts.min_std));
   float* C = s.corr.data();
-  for (int a = 0; a < used; ++a) {
-    C[a * k + a] = 1.f;
-    const float* ra = s.samples.data() + static_cast<size_t>(a) * ns;
-    for (int b = a + 1; b < used; ++b) {
-      const float x = ncc_normalized(ra, s.samples.data() + static_cast<size_t>(b) * ns, ns);
-      C[a * k + b] = x;
-      C[b * k + a] = x;
+  correlate(S, ns, L, used, C);
+
+  // Each view as reference: mean of its best k' NCCs, summed in descending order (as a
+  // sort of its row would); the best reference wins (ties: the earlier view, i.e. the
+  // smaller angle). C is symmetric, so row j of C holds column j: the k' largest of every
+  // row are kept for 4 references at a time by branch-free insertion (max/min), with the
+  // diagonal set below every NCC so that it is never among them.
+  for (int a = 0; a < used; ++a) C[static_cast<std::size_t>(a) * L + a] = -2.f;
+  float mean_r[kMaxK + 3];
+  {
+    const float fkp = static_cast<float>(kp);
+#if defined(__SSE2__)
+    for (int q = 0; q * 4 < used; ++q) {
+      __m128 topv[kMaxKPrime];
+      for (int t = 0; t < kp; ++t) topv[t] = _mm_set1_ps(-3.f);
+      for (int j = 0; j < used; ++j) {
+        __m128 x = _mm_loadu_ps(C + static_cast<std::size_t>(j) * L + 4 * q);
+        for (int t = 0; t < kp; ++t) {
+          const __m128 hi = _mm_max_ps(topv[t], x);
+          x = _mm_min_ps(topv[t], x);
+          topv[t] = hi;
+        }
+      }
+      __m128 sum = _mm_setzero_ps();
+      for (int t = 0; t < kp; ++t) sum = _mm_add_ps(sum, topv[t]);
+      _mm_storeu_ps(mean_r + 4 * q, _mm_div_ps(sum, _mm_set1_ps(fkp)));
     }
+#else
+    for (int r = 0; r < used; ++r) {
+      float topv[kMaxKPrime];
+      for (int t = 0; t < kp; ++t) topv[t] = -3.f;
+      for (int j = 0; j < used; ++j) {
+        float x = C[static_cast<std::size_t>(j) * L + r];
+        for (int t = 0; t < kp; ++t) {
+          const float hi = std::max(topv[t], x);
+          x = std::min(topv[t], x);
+          topv[t] = hi;
+        }
+      }
+      float sum = 0.f;
+      for (int t = 0; t < kp; ++t) sum += topv[t];
+      mean_r[r] = sum / fkp;
+    }
+#endif
   }
-  // Each view as reference: mean of its best k' NCCs; the best reference wins
-  // (ties: the earlier view, i.e. the smaller angle).
   float best = -std::numeric_limits<float>::infinity();
   int best_r = -1;
-  int idx[kMaxK];
-  for (int r = 0; r < used; ++r) {
+  for (int r = 0; r < used; ++r)
+    if (mean_r[r] > best) best = mean_r[r], best_r = r;
+  {
+    // The best reference's partners: its k' largest NCCs, ties by the lower view slot.
+    const float* Cr = C + static_cast<std::size_t>(best_r) * L;
+    int idx[kMaxK];
     int q = 0;
     for (int j = 0; j < used; ++j)
-      if (j != r) idx[q++] = j;
-    const float* Cr = C + r * k;
+      if (j != best_r) idx[q++] = j;
     std::partial_sort(idx, idx + kp, idx + q,
                       [Cr](int a, int b) { return Cr[a] > Cr[b] || (Cr[a] == Cr[b] && a < b); });
-    float sum = 0.f;
-    for (int t = 0; t < kp; ++t) sum += Cr[idx[t]];
-    const float mean = sum / static_cast<float>(kp);
-    if (mean > best) {
-      best = mean;
-      best_r = r;
-      for (int t = 0; t < kp; ++t) out.partners[t] = s.views[idx[t]];
-    }
+    for (int t = 0; t < kp; ++t) out.partners[t] = s.views[idx[t]];
   }
   out.score = best;
   out.ref = s.views[best_r];
@@ -118,7 +342,6 @@ void score_prepared(const Views& views, const Eigen::Vector3d& n, const Eigen::V
 }
 
 }  // namespace detail
-
 PatchResult score_line(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nx,
                        const Eigen::Vector3d& nf, const Options& opts, Scratch& scratch) {
   PatchResult out;

@@ -34,8 +34,11 @@ class Scratch {
   };
   std::vector<ViewCache> cache;
   std::vector<Candidate> cand;
-  std::vector<float> samples;  // k rows of mu (line) or mu*mu (grid) samples, normalized
-  std::vector<float> corr;     // k x k NCC matrix
+  // Samples, transposed: mu (line) or mu*mu (grid) rows of `lanes` floats, one column
+  // per usable view (normalized in place). lanes = k rounded up to a multiple of 4.
+  std::vector<float> samples;
+  std::vector<float> corr;     // k x lanes NCC matrix (row r: view r's NCCs)
+  int lanes = 0;
   std::vector<int> views;      // the usable views, in order of preference
   std::vector<float> row;      // one ref's NCCs with its partners
   std::vector<int> row_idx;

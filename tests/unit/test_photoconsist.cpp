@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 
 #include "common/error.h"
@@ -36,6 +37,31 @@ fs::path temp_dir(const std::string& name) {
   fs::path d = fs::temp_directory_path() / ("tetmvs_test_pc_" + name + "_" + std::to_string(::getpid()));
   fs::create_directories(d);
   return d;
+}
+
+// The rendered dataset of a synth config, made once per build of the test binary and
+// shared by the test processes (gtest_discover_tests runs one process per test): cached
+// in test_cache/ beside the binary, keyed by the config and the binary's size and time,
+// so a rebuild (maybe of synth) renders again. Made in a private directory and renamed
+// into place, so concurrent processes never see a partial one.
+fs::path cached_dataset(const synth::SynthConfig& c) {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  const auto stamp = fs::last_write_time(exe, ec).time_since_epoch().count();
+  const std::string key = c.object + "_" + c.cameras + "_" + std::to_string(c.views) + "_" + std::to_string(c.width) +
+                          "x" + std::to_string(c.height) + "_" + std::to_string(fs::file_size(exe, ec)) + "_" +
+                          std::to_string(stamp);
+  const fs::path root = exe.parent_path() / "test_cache", dir = root / key;
+  if (fs::exists(dir / "done")) return dir;
+  const fs::path tmp = root / (key + ".tmp" + std::to_string(::getpid()));
+  fs::remove_all(tmp, ec);
+  fs::create_directories(tmp);
+  synth::synthesize(c, tmp);
+  { std::ofstream(tmp / "done") << "ok\n"; }
+  fs::rename(tmp, dir, ec);  // fails when another process was first: use theirs
+  if (ec) fs::remove_all(tmp, ec);
+  return fs::exists(dir / "done") ? dir : fs::path{};
 }
 
 }  // namespace
@@ -222,14 +248,17 @@ struct SceneFixture {
   pc::LevelResult r1;
 
   SceneFixture() {
-    const fs::path dir = temp_dir("scene");
     synth::SynthConfig c;
     c.object = "torus";
     c.cameras = "ring";
     c.views = 16;
     c.width = 320;
     c.height = 240;
-    synth::synthesize(c, dir);
+    fs::path dir = cached_dataset(c), own;
+    if (dir.empty()) {  // no cache (no /proc): render privately
+      dir = own = temp_dir("scene");
+      synth::synthesize(c, dir);
+    }
     Params p = Params::defaults();
     scene = read_dataset(dir, p);
     scene.load_grey();
@@ -243,7 +272,7 @@ struct SceneFixture {
     r0 = run(m0, nullptr);
     m1 = tet::refine(m0, r0.active);
     r1 = run(m1, &r0.cache);
-    fs::remove_all(dir);
+    if (!own.empty()) fs::remove_all(own);
   }
   pc::LevelResult run(const tet::TetMesh& m, const pc::FaceCache* prev, bool keep_all = false) const {
     pc::LevelInput in;
