@@ -127,8 +127,8 @@ int main(int argc, char** argv) {
         f.set_attr("/points", "within_final_cell_of_gt", acc);
         os << " Q_within_cell=" << acc;
       }
+      if (!points_ply.empty()) write_qpoints_ply(points_ply, q.q);  // before make's target
       f.commit();
-      if (!points_ply.empty()) write_qpoints_ply(points_ply, q.q);
       ctx.summary = os.str();
       return;
     }
@@ -186,8 +186,8 @@ int main(int argc, char** argv) {
                     E.precision(), E.cell_recall(), E.points_accuracy());
       os << buf;
     }
+    if (!points_ply.empty()) write_qpoints_ply(points_ply, all.q);  // before make's target
     f.commit();
-    if (!points_ply.empty()) write_qpoints_ply(points_ply, all.q);
     ctx.summary = os.str();
   });
 }
