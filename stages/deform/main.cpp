@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "common/budget.h"
 #include "common/deform/deform.h"
 #include "common/error.h"
 #include "common/image.h"
@@ -32,6 +33,15 @@ int main(int argc, char** argv) {
     Scene scene = read_scene(scene_file);
     scene.load_grey();
     const TriMesh start = read_ply(mesh_file);
+    {
+      // per view a depth and a face-id buffer for visibility; the mesh grows by remeshing to
+      // edges of about deform.max_edge_px: budget 16x the start's faces at ~400 bytes each
+      const double pixels = static_cast<double>(scene.size()) * scene.cams[0].width * scene.cams[0].height;
+      const double bytes = 9.0 * pixels + 16.0 * 400.0 * static_cast<double>(start.nf());
+      std::ostringstream what;
+      what << "deform: " << mesh_file << " (" << start.nf() << " faces, " << scene.size() << " views)";
+      check_memory_budget(ctx.params, bytes, what.str(), "raise deform.max_edge_px or start from a coarser surface");
+    }
     const deform::Result r = deform::deform_mesh(start, scene, opt, popt);
     // the PLY is make's target: written last, so an interrupted run never leaves a final
     // mesh without its statistics and picture

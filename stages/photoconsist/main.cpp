@@ -15,6 +15,7 @@
 #include <optional>
 #include <sstream>
 
+#include "common/budget.h"
 #include "common/error.h"
 #include "common/h5io.h"
 #include "common/log.h"
@@ -74,6 +75,16 @@ int main(int argc, char** argv) {
   return cli.run(argc, argv, [&](StageContext& ctx) {
     const pc::Options opts = pc::Options::from_params(ctx.params);
     Scene scene = read_scene(scene_file);
+    {
+      // the mesh; per view the RGB, float grey and silhouette images; per face the quad-tree
+      // cache entry, the scores and the best oriented point (about 160 bytes)
+      const MeshCounts mc = mesh_counts(mesh_file);
+      const double pixels = static_cast<double>(scene.size()) * scene.cams[0].width * scene.cams[0].height;
+      const double bytes = mc.read_bytes() + 8.0 * pixels + 160.0 * mc.faces;
+      std::ostringstream what;
+      what << "photoconsist: " << mesh_file << " (" << mc.faces << " faces, " << scene.size() << " views)";
+      check_memory_budget(ctx.params, bytes, what.str(), "use fewer LEVELS or a coarser mesh.cells (MESH_CELLS)");
+    }
     scene.load_grey();
     const tet::TetMesh mesh = tet::read_mesh(mesh_file);
     const photo::Views views(scene.cams, scene.grey, scene.sil);

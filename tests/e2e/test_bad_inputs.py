@@ -189,6 +189,13 @@ def budget_cases(run, tmp, out_dir, have):
         out = os.path.join(out_dir, "labels.h5")
         run_case("label", ["--scene", scene, "--mesh", meshL, "--scores", scores, "--out", out] + tiny,
                  [out], words + ["label", "cells"], "budget: 1 MiB")
+        out = os.path.join(out_dir, "scores.h5")
+        run_case("photoconsist", ["--scene", scene, "--mesh", meshL, "--scores", "--out", out] + tiny,
+                 [out], words + ["photoconsist", "faces", "LEVELS"], "budget: 1 MiB")
+        if "deform" in have and os.path.exists(os.path.join(full, "cut1.ply")):
+            out, st = os.path.join(out_dir, "final.ply"), os.path.join(out_dir, "deform.h5")
+            run_case("deform", ["--scene", scene, "--mesh", os.path.join(full, "cut1.ply"), "--out", out,
+                                "--stats", st] + tiny, [out, st], words + ["deform", "faces"], "budget: 1 MiB")
 
 
 # ---- COLMAP workspaces (tests/e2e/test_colmap.py has the working ones) ----
