@@ -57,8 +57,15 @@ Camera random_camera(std::mt19937& rng) {
 
 }  // namespace
 
+// The real dinoRing par file, when the shared Middlebury data sits beside the checkout
+// (a clean clone elsewhere has none: those tests skip).
+static fs::path dino_par() {
+  return fs::path(TETMVS_SOURCE_DIR) / "../shared/data/middlebury/dinoRing/dinoR_par.txt";
+}
+
 TEST(ParReader, ReadsTheRealDinoRingFile) {
-  const auto cams = read_par(fs::path(TETMVS_SOURCE_DIR) / "../shared/data/middlebury/dinoRing/dinoR_par.txt");
+  if (!fs::exists(dino_par())) GTEST_SKIP() << "no dinoRing data at " << dino_par();
+  const auto cams = read_par(dino_par());
   ASSERT_EQ(cams.size(), 48u);
   EXPECT_EQ(cams[0].name, "dinoR0001.png");
   EXPECT_NEAR(cams[0].K(0, 0), 3310.4, 1e-9);
@@ -262,6 +269,7 @@ TEST(Sha256, KnownVectors) {
   EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
   EXPECT_EQ(sha256_hex(std::string(1000000, 'a')),
             "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
-  EXPECT_EQ(h5::file_sha256(fs::path(TETMVS_SOURCE_DIR) / "../shared/data/middlebury/dinoRing/dinoR_par.txt"),
-            "a1ff4466587abe2bad6e7999e99e052994c7515ddcbe8ab0326732c3b04474a0");
+  if (fs::exists(dino_par()))
+    EXPECT_EQ(h5::file_sha256(dino_par()),
+              "a1ff4466587abe2bad6e7999e99e052994c7515ddcbe8ab0326732c3b04474a0");
 }
