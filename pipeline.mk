@@ -68,7 +68,9 @@ STAMPS := $(RUN_DIR)/.params
 ALL_STAGES := ingest bcc-init photoconsist refine label cut silhouette-fix deform evaluate
 stamp_text = $(call set_args,$(1)) $(STAGE_FLAGS) $(if $(PARAMS),$(firstword $(shell sha256sum $(PARAMS))))
 # A dry run (make -n) must not touch the run: it compares against a copy of the stamps.
-ifneq ($(findstring n,$(firstword -$(MAKEFLAGS))),)
+# (MAKEFLAGS's first word holds the single-letter flags; without any it is pipeline.mk's own
+# --no-builtin-rules, whose n is not a dry run.)
+ifneq ($(findstring n,$(filter-out --%,$(firstword -$(MAKEFLAGS)))),)
 STAMPS := $(shell d='$(RUN_DIR)/.params-dry'; rm -rf "$$d"; mkdir -p "$$d"; cp -p '$(RUN_DIR)/.params/'*.args "$$d"/ 2>/dev/null; echo "$$d")
 endif
 ifeq ($(filter help clean,$(MAKECMDGOALS)),)

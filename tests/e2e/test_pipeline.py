@@ -8,6 +8,7 @@ import glob
 import json
 import os
 import re
+import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(__file__))
@@ -84,6 +85,15 @@ def main():
     # 3. change tracking: nothing changed -> nothing reruns
     r = tiny_run.make(BIN, SRC, ["-n", target])
     expect(stages_run(r.stdout) == [], f"a second make reruns {stages_run(r.stdout)}")
+    # a real make without -s (MAKEFLAGS then holds only pipeline.mk's long option, which once
+    # passed for a dry run and made every later invocation redo everything) runs nothing, twice
+    dry = os.path.join(run, ".params-dry")
+    if os.path.isdir(dry):
+        shutil.rmtree(dry)
+    for _ in range(2):
+        r = tiny_run.make(BIN, SRC, [target], silent=False)
+        expect(stages_run(r.stdout) == [], f"a plain make reruns {stages_run(r.stdout)}")
+        expect(not os.path.exists(dry), "a real make keeps its parameter stamps in .params, not the dry-run copy")
     if "cut" in have and "photoconsist" in have:
         r = tiny_run.make(BIN, SRC, ["-n", "all"], extra=["LAMBDA=0.123"])
         ran = set(stages_run(r.stdout))

@@ -26,9 +26,9 @@ def paths(bin_dir):
     }
 
 
-def make(bin_dir, src_dir, targets, extra=(), run_dir=None, check=True):
+def make(bin_dir, src_dir, targets, extra=(), run_dir=None, check=True, silent=True):
     p = paths(bin_dir)
-    cmd = ["make", "-s", "-f", os.path.join(src_dir, "pipeline.mk"), f"DATA={SCENE}",
+    cmd = ["make"] + (["-s"] if silent else []) + ["-f", os.path.join(src_dir, "pipeline.mk"), f"DATA={SCENE}",
            f"BUILD_DIR={p['build']}", f"SYNTH_DIR={p['synth_dir']}",
            f"RUN_DIR={run_dir or p['run_dir']}"] + MAKE_VARS + list(extra) + list(targets)
     r = subprocess.run(cmd, capture_output=True, text=True)
