@@ -788,18 +788,8 @@ Scene read_scene(const Layout& l, const Params& p) {
       info("ingest: sparse-point box from ", pts.size(), " of ", m.points.size(), " points", roi ? " (inside ingest.roi)" : "");
     }
     if (s.num_silhouettes() > 0) {
-      const int res = p.i("ingest.hull_resolution");
-      Eigen::AlignedBox3d region = roi ? *roi : pbox ? *pbox : camera_search_region(s.cams);
-      long vox = 0;
-      Eigen::AlignedBox3d hull = visual_hull_box(s, region, res, &vox);
-      if (hull.isEmpty())
-        fail(l.root.string(), ": the visual hull of the silhouettes is empty (silhouettes inconsistent with the "
-                              "cameras?); give ingest.box or a bbox.txt");
-      const Eigen::Vector3d grow = hull.sizes() * 0.1;
-      region = Eigen::AlignedBox3d(hull.min() - grow, hull.max() + grow);
-      hull = visual_hull_box(s, region, res, &vox);
-      const double pad = p.d("ingest.box_padding") * hull.diagonal().norm();
-      s.box = Eigen::AlignedBox3d(hull.min().array() - pad, hull.max().array() + pad);
+      const Eigen::AlignedBox3d region = roi ? *roi : pbox ? *pbox : camera_search_region(s.cams);
+      s.box = padded_hull_box(s, region, p, l.root.string(), "give ingest.box or a bbox.txt");
       s.box_source = "visual hull";
       if (pbox && !s.box.intersection(*pbox).isEmpty()) {
         s.box = s.box.intersection(*pbox);

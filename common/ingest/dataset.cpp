@@ -141,6 +141,19 @@ Eigen::AlignedBox3d camera_search_region(const std::vector<Camera>& cams) {
   return Eigen::AlignedBox3d(x.array() - half, x.array() + half);
 }
 
+Eigen::AlignedBox3d padded_hull_box(const Scene& s, const Eigen::AlignedBox3d& region, const Params& p,
+                                    const std::string& where, const std::string& hint) {
+  const int res = p.i("ingest.hull_resolution");
+  Eigen::AlignedBox3d hull = visual_hull_box(s, region, res);
+  if (hull.isEmpty())
+    fail(where, ": the visual hull of the silhouettes is empty (silhouettes inconsistent with the cameras?); ", hint);
+  // refine once inside the first hull box for a tighter estimate
+  const Eigen::Vector3d grow = hull.sizes() * 0.1;
+  hull = visual_hull_box(s, Eigen::AlignedBox3d(hull.min() - grow, hull.max() + grow), res);
+  const double pad = p.d("ingest.box_padding") * hull.diagonal().norm();
+  return Eigen::AlignedBox3d(hull.min().array() - pad, hull.max().array() + pad);
+}
+
 Eigen::AlignedBox3d visual_hull_box(const Scene& s, const Eigen::AlignedBox3d& region, int res,
                                     long* voxels) {
   const Eigen::Vector3d size = region.sizes();
@@ -291,19 +304,7 @@ Scene read_dataset(const fs::path& dir, const Params& p) {
     if (s.num_silhouettes() == 0)
       fail(dir.string(), ": no bounding box stated (bbox.txt or README.txt) and no silhouettes to "
                          "compute one from; add a bbox.txt with two lines: min x y z, max x y z (or set ingest.box)");
-    Eigen::AlignedBox3d region = camera_search_region(s.cams);
-    const int res = p.i("ingest.hull_resolution");
-    long vox = 0;
-    Eigen::AlignedBox3d hull = visual_hull_box(s, region, res, &vox);
-    if (hull.isEmpty())
-      fail(dir.string(), ": the visual hull of the silhouettes is empty (silhouettes inconsistent "
-                         "with the cameras?); add a bbox.txt");
-    // refine once inside the first hull box for a tighter estimate
-    const Eigen::Vector3d grow = hull.sizes() * 0.1;
-    region = Eigen::AlignedBox3d(hull.min() - grow, hull.max() + grow);
-    hull = visual_hull_box(s, region, res, &vox);
-    const double pad = p.d("ingest.box_padding") * hull.diagonal().norm();
-    s.box = Eigen::AlignedBox3d(hull.min().array() - pad, hull.max().array() + pad);
+    s.box = padded_hull_box(s, camera_search_region(s.cams), p, dir.string(), "add a bbox.txt");
     s.box_source = "visual hull";
   }
   // Automatic silhouettes: nothing outside the projected bounding box can be the object

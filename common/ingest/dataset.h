@@ -41,6 +41,13 @@ std::optional<Eigen::AlignedBox3d> read_stated_box(const std::filesystem::path& 
 Eigen::AlignedBox3d visual_hull_box(const Scene& s, const Eigen::AlignedBox3d& region, int res,
                                     long* voxels = nullptr);
 
+// The scene box from the silhouettes: the visual hull's box inside `region`, carved again
+// inside that box grown by 10 % for a tighter estimate, padded by ingest.box_padding of its
+// diagonal (ingest.hull_resolution voxels along the longest side). An empty hull is an
+// Error naming `where`, ending with `hint` (how to state a box instead).
+Eigen::AlignedBox3d padded_hull_box(const Scene& s, const Eigen::AlignedBox3d& region, const Params& p,
+                                    const std::string& where, const std::string& hint);
+
 // Least-squares meeting point of the optical axes and a cube around it covering what the
 // cameras see at that depth: the search region when nothing states a box.
 Eigen::AlignedBox3d camera_search_region(const std::vector<Camera>& cams);
