@@ -386,7 +386,7 @@ void write_stats(const std::filesystem::path& file, const Result& r, const std::
   const size_t n = r.iterations.size();
   std::vector<std::int32_t> iter(n);
   std::vector<std::int64_t> nvert(n), nface(n), rim(n), splits(n), collapses(n), flips(n), reduced(n), inter(n);
-  std::vector<double> move(n), move_px(n), max_px(n), score(n), applied(n), probed(n), offset(n), iou(n), secs(n);
+  std::vector<double> move(n), move_px(n), max_px(n), score(n), applied(n), probed(n), offset(n), iou(n);
   for (size_t i = 0; i < n; ++i) {
     const auto& s = r.iterations[i];
     iter[i] = s.iteration;
@@ -406,7 +406,6 @@ void write_stats(const std::filesystem::path& file, const Result& r, const std::
     probed[i] = s.texture_probed;
     offset[i] = s.mean_texture_offset_px;
     iou[i] = s.silhouette_iou;
-    secs[i] = s.seconds;
   }
   f.create_group("/iterations");
   f.write("/iterations/iteration", iter);
@@ -426,7 +425,6 @@ void write_stats(const std::filesystem::path& file, const Result& r, const std::
   f.write("/iterations/flips", flips);
   f.write("/iterations/reduced_vertices", reduced);
   f.write("/iterations/intersections", inter);
-  f.write("/iterations/seconds", secs);
   f.set_attr("/", "start_intersections", r.start_intersections);
   f.set_attr("/", "final_intersections", r.final_intersections);
   f.set_attr("/", "start_iou", r.start_iou);

@@ -284,18 +284,24 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
       const double spacing = views[ref].project_h(X).z() * views[ref].inv_focal;
       const Eigen::Vector3d a1 = photo::stable_perpendicular(n) * spacing;
       const Eigen::Vector3d a2 = n.cross(a1);
+      const auto normalize = [&](float* x) {
+        if (popt.detrend)
+          photo::normalize_patch_detrended(x, mu, mu, min_std, x);
+        else
+          photo::normalize_patch(x, ns, min_std, x);
+      };
       // Score at offset t (pixels): mean NCC of the reference with its partners.
       const auto score_at = [&](double t) -> float {
         const Eigen::Vector3d Xt = X + (t * unit) * n;
         float* r = buf.data();
         if (!sample_patch(views[ref], grey[ref], Xt, a1, a2, mu, r)) return photo::kNoScore;
-        photo::normalize_patch(r, ns, min_std, r);
+        normalize(r);
         float sum = 0.f;
         int cnt = 0;
         for (int q = 0; q < np; ++q) {
           float* p = buf.data() + static_cast<size_t>(q + 1) * ns;
           if (!sample_patch(views[sel[q]], grey[sel[q]], Xt, a1, a2, mu, p)) continue;
-          photo::normalize_patch(p, ns, min_std, p);
+          normalize(p);
           sum += photo::ncc_normalized(r, p, ns);
           ++cnt;
         }

@@ -35,6 +35,52 @@ inline bool normalize_patch(const float* x, int n, float min_std, float* out) {
   return true;
 }
 
+// Sum of t^2 over a rows x mu patch, t = i - mu/2 the sample's offset along a row: the
+// denominator of the least-squares ramp fit of normalize_patch_detrended (exact in float).
+inline float ramp_norm2(int mu, int rows) {
+  const int c = mu / 2;
+  return static_cast<float>(rows * (c * (c + 1) * (2 * c + 1) / 3));
+}
+
+// De-trended normalization of a rows x mu patch (rows = 1: a line; rows = mu: a grid,
+// sample (j, i) at x[j * mu + i]): removes the mean and the least-squares linear ramp
+// along each axis (t1 = i - mu/2, and t2 = j - mu/2 for a grid), then scales the residual
+// to unit norm. A pure shading gradient leaves no residual, so on smooth untextured
+// surfaces two ramps no longer correlate perfectly whatever their alignment
+// (docs/photoconsist.md, "Real dinoRing"). A residual whose standard deviation is below
+// min_std is "constant": zeros, and false. The operations and their order are the
+// contract of the SIMD kernel (common/photo/patch.cpp), which must match them bit for bit.
+inline bool normalize_patch_detrended(const float* x, int mu, int rows, float min_std, float* out) {
+  const int n = mu * rows, c = mu / 2;
+  float mean = 0.f;
+  for (int i = 0; i < n; ++i) mean += x[i];
+  mean /= static_cast<float>(n);
+  float s1 = 0.f, s2 = 0.f;
+  for (int j = 0; j < rows; ++j)
+    for (int i = 0; i < mu; ++i) {
+      const float v = x[j * mu + i] - mean;
+      out[j * mu + i] = v;
+      s1 += v * static_cast<float>(i - c);
+      s2 += v * static_cast<float>(j - c);
+    }
+  const float d = ramp_norm2(mu, rows);
+  const float g1 = s1 / d, g2 = rows > 1 ? s2 / d : 0.f;
+  float ss = 0.f;
+  for (int j = 0; j < rows; ++j)
+    for (int i = 0; i < mu; ++i) {
+      const float r = (out[j * mu + i] - g1 * static_cast<float>(i - c)) - g2 * static_cast<float>(j - c);
+      out[j * mu + i] = r;
+      ss += r * r;
+    }
+  if (!(ss > static_cast<float>(n) * min_std * min_std) || ss <= 0.f) {
+    std::fill(out, out + n, 0.f);
+    return false;
+  }
+  const float inv = 1.f / std::sqrt(ss);
+  for (int i = 0; i < n; ++i) out[i] *= inv;
+  return true;
+}
+
 // NCC of two normalized patches (outputs of normalize_patch): their dot product,
 // clamped to [-1, 1] against rounding. 0 when either patch was constant.
 inline float ncc_normalized(const float* a, const float* b, int n) {

@@ -28,6 +28,7 @@ Options Options::from_params(const Params& p) {
   o.T = p.d("photo.T");
   o.min_std = p.d("photo.min_std");
   o.use_silhouettes = p.b("photo.use_silhouettes");
+  o.detrend = p.b("photo.detrend");
   o.check();
   return o;
 }

@@ -21,6 +21,15 @@ struct Options {
   double T = 0.9;          // a point is photo-consistent when its score > T (docs/photoconsist.md)
   double min_std = 1e-3;   // patches whose grey std is below this are "constant": NCC = 0
   bool use_silhouettes = false;  // drop a view when the patch centre is outside its silhouette
+  // Remove each patch's least-squares linear ramp (per axis) before the NCC
+  // (normalize_patch_detrended, ncc.h): shading gradients on untextured surfaces then
+  // stop correlating perfectly off the surface. Off by default in the struct (the
+  // paper's measure); photo.detrend in params/defaults.json.
+  bool detrend = false;
+  // score_point (oriented_point.h) scores a mu x mu grid on the plane of each
+  // orientation instead of the paper's 1 x mu line on the face plane. Set by
+  // photoconsist from photo.point_patch; off by default.
+  bool point_grid = false;
   // When fewer than k views are usable, score with the m usable ones (k' = max(m/2, 3),
   // defined for m >= 4) instead of leaving the patch undefined below k'+1 views. Lets a
   // large k (wide baselines on dense rings) degrade gracefully on sparse camera sets.
@@ -33,7 +42,7 @@ struct Options {
   int min_cams() const { return k_prime() + 1; }
   // Throws tetmvs::Error naming the bad value.
   void check() const;
-  // Reads photo.mu, photo.k, photo.cone_deg, photo.T, photo.min_std, photo.use_silhouettes,
+  // Reads photo.mu, photo.k, photo.cone_deg, photo.T, photo.min_std, photo.use_silhouettes, photo.detrend,
   // then check()s.
   static Options from_params(const Params& p);
 };

@@ -17,10 +17,17 @@ PointResult score_point(const Views& views, const Eigen::Vector3d& X, const Eige
   PatchResult r;
   for (int o = 0; o < kNumOrientations; ++o) {
     const Eigen::Vector3d& n = orientations()[o];
-    Eigen::Vector3d d = n.cross(f);
-    const double ld = d.norm();
-    d = ld > 1e-9 ? Eigen::Vector3d(d / ld) : fallback;
-    detail::score_prepared(views, n, d, nullptr, opts, scratch, r);
+    if (opts.point_grid) {
+      // mu x mu grid on the orientation's plane, axes as score_patch's
+      const Eigen::Vector3d a1 = stable_perpendicular(n);
+      const Eigen::Vector3d a2 = n.cross(a1);
+      detail::score_prepared(views, n, a1, &a2, opts, scratch, r);
+    } else {
+      Eigen::Vector3d d = n.cross(f);
+      const double ld = d.norm();
+      d = ld > 1e-9 ? Eigen::Vector3d(d / ld) : fallback;
+      detail::score_prepared(views, n, d, nullptr, opts, scratch, r);
+    }
     if (per_orientation) (*per_orientation)[o] = r.score;
     if (r.valid() && (!best.valid() || r.score > best.score)) {
       static_cast<PatchResult&>(best) = r;

@@ -1,6 +1,7 @@
 // Photo-consistency of a lattice point on a mesh face (paper section 2.3): the best
 // of the 14 canonical orientations (orientations.h) of a 1 x mu line patch at X
-// lying on the face plane (direction n_X x n_f). The point is photo-consistent when
+// lying on the face plane (direction n_X x n_f), or, with Options::point_grid, of a
+// mu x mu grid patch on the orientation's plane. The point is photo-consistent when
 // score > Options::T. The stage loops over faces and lattice points and calls this.
 #pragma once
 #include <Eigen/Core>

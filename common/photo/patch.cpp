@@ -157,8 +157,10 @@ bool sample_grid(const View& v, const Eigen::Vector3d& h0, const Eigen::Vector3d
   return true;
 }
 
-// normalize_patch (ncc.h) of the first `used` columns of S (ns rows, L lanes), in place.
-void normalize_columns(float* S, int ns, int L, int used, float min_std) {
+// normalize_patch (ncc.h) of the first `used` columns of S (ns = rows * mu rows of the
+// transposed layout, L lanes), in place; normalize_patch_detrended when `detrend`.
+void normalize_columns(float* S, int mu, int rows, int L, int used, float min_std, bool detrend) {
+  const int ns = mu * rows;
   float mean[kMaxK + 3], ss[kMaxK + 3], inv[kMaxK + 3];
   for (int l = 0; l < L; ++l) mean[l] = 0.f, ss[l] = 0.f;
   for (int i = 0; i < ns; ++i) {
@@ -167,13 +169,47 @@ void normalize_columns(float* S, int ns, int L, int used, float min_std) {
   }
   const float fn = static_cast<float>(ns);
   for (int l = 0; l < L; ++l) mean[l] /= fn;
-  for (int i = 0; i < ns; ++i) {
-    float* r = S + static_cast<std::size_t>(i) * L;
-    for (int l = 0; l < L; ++l) {
-      const float c = r[l] - mean[l];
-      r[l] = c;
-      ss[l] += c * c;
+  if (!detrend) {
+    for (int i = 0; i < ns; ++i) {
+      float* r = S + static_cast<std::size_t>(i) * L;
+      for (int l = 0; l < L; ++l) {
+        const float c = r[l] - mean[l];
+        r[l] = c;
+        ss[l] += c * c;
+      }
     }
+  } else {
+    // As normalize_patch_detrended, lane by lane: centre and accumulate the ramp
+    // moments, then subtract the ramps and accumulate the residual's sum of squares.
+    const int c = mu / 2;
+    float s1[kMaxK + 3], s2[kMaxK + 3], g1[kMaxK + 3], g2[kMaxK + 3];
+    for (int l = 0; l < L; ++l) s1[l] = 0.f, s2[l] = 0.f;
+    for (int j = 0; j < rows; ++j)
+      for (int i = 0; i < mu; ++i) {
+        float* r = S + static_cast<std::size_t>(j * mu + i) * L;
+        const float t1 = static_cast<float>(i - c), t2 = static_cast<float>(j - c);
+        for (int l = 0; l < L; ++l) {
+          const float v = r[l] - mean[l];
+          r[l] = v;
+          s1[l] += v * t1;
+          s2[l] += v * t2;
+        }
+      }
+    const float d = ramp_norm2(mu, rows);
+    for (int l = 0; l < L; ++l) {
+      g1[l] = s1[l] / d;
+      g2[l] = rows > 1 ? s2[l] / d : 0.f;
+    }
+    for (int j = 0; j < rows; ++j)
+      for (int i = 0; i < mu; ++i) {
+        float* r = S + static_cast<std::size_t>(j * mu + i) * L;
+        const float t1 = static_cast<float>(i - c), t2 = static_cast<float>(j - c);
+        for (int l = 0; l < L; ++l) {
+          const float v = (r[l] - g1[l] * t1) - g2[l] * t2;
+          r[l] = v;
+          ss[l] += v * v;
+        }
+      }
   }
   const float thr = fn * min_std * min_std;
   bool constant = false;
@@ -272,7 +308,7 @@ void score_prepared(const Views& views, const Eigen::Vector3d& n, const Eigen::V
   if (used < need) return;
   if (opts.adaptive_k && used < k) kp = std::max(used / 2, 3);
 
-  normalize_columns(S, ns, L, used, static_cast<float>(opts.min_std));
+  normalize_columns(S, mu, a2 ? mu : 1, L, used, static_cast<float>(opts.min_std), opts.detrend);
   float* C = s.corr.data();
   correlate(S, ns, L, used, C);
 

@@ -36,7 +36,11 @@ Options Options::from_params(const Params& p) {
   Options o;
   o.face = photo::Options::from_params(p);
   o.line = o.face;
-  o.line.mu = p.i("photo.line_mu");
+  const std::string shape = p.s("photo.point_patch");
+  require(shape == "line" || shape == "grid", "photoconsist: photo.point_patch = '", shape,
+          "' must be 'line' or 'grid'");
+  o.line.point_grid = shape == "grid";
+  o.line.mu = o.line.point_grid ? p.i("photo.point_grid_mu") : p.i("photo.line_mu");
   if (p.i("photo.line_k") > 0) o.line.k = p.i("photo.line_k");
   o.line.adaptive_k = true;
   o.line.T = p.d("photo.T");
@@ -58,6 +62,8 @@ std::string Options::cache_signature() const {
   os << "line_mu=" << line.mu << " k=" << line.k << " cone=" << line.cone_deg << " T=" << line.T
      << " min_std=" << line.min_std << " sil=" << line.use_silhouettes << " adaptive_k=" << line.adaptive_k << " lattice_px=" << lattice_px
      << " hull_margin_px=" << hull_margin_px;
+  if (line.detrend) os << " detrend=1";
+  if (line.point_grid) os << " grid=1";  // absent when off: caches written before the option stay valid
   return os.str();
 }
 

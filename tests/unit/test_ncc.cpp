@@ -104,6 +104,52 @@ TEST(Ncc, RejectsBadSizes) {
   EXPECT_THROW(ncc(a, a, 2000), Error);
 }
 
+TEST(NccDetrended, RampsVanishTextureSurvives) {
+  // Two different pure ramps (a shading gradient seen at two alignments): plain NCC says
+  // 1, the de-trended patches are constant (zeros, false).
+  for (int rows : {1, 11}) {
+    const int mu = 11, n = mu * rows;
+    std::vector<float> r1(n), r2(n), t(n), out(n);
+    for (int j = 0; j < rows; ++j)
+      for (int i = 0; i < mu; ++i) {
+        r1[j * mu + i] = 0.2f + 0.01f * i + 0.003f * j;
+        r2[j * mu + i] = 0.5f + 0.03f * i + 0.009f * j;
+      }
+    EXPECT_NEAR(ncc(r1.data(), r2.data(), n), 1.0f, 1e-5f) << rows;
+    EXPECT_FALSE(normalize_patch_detrended(r1.data(), mu, rows, 1e-3f, out.data())) << rows;
+    for (float x : out) EXPECT_EQ(x, 0.0f);
+    // Texture on top of different ramps: the de-trended patches are identical (NCC 1),
+    // zero-mean, unit-norm and orthogonal to both ramps.
+    const auto tex = noise(n, 42);
+    std::vector<float> a(n), b(n), na(n), nb(n);
+    for (int q = 0; q < n; ++q) a[q] = r1[q] + 0.05f * tex[q], b[q] = 2.f * (r2[q] + 0.05f * tex[q]) + 0.1f;
+    ASSERT_TRUE(normalize_patch_detrended(a.data(), mu, rows, 1e-3f, na.data()));
+    ASSERT_TRUE(normalize_patch_detrended(b.data(), mu, rows, 1e-3f, nb.data()));
+    double s = 0, ss = 0, m1 = 0, m2 = 0;
+    for (int j = 0; j < rows; ++j)
+      for (int i = 0; i < mu; ++i) {
+        const double x = na[j * mu + i];
+        s += x, ss += x * x, m1 += x * (i - 5), m2 += x * (j - rows / 2);
+      }
+    EXPECT_NEAR(s, 0.0, 1e-5);
+    EXPECT_NEAR(ss, 1.0, 1e-5);
+    EXPECT_NEAR(m1, 0.0, 1e-4);
+    if (rows > 1) {
+      EXPECT_NEAR(m2, 0.0, 1e-4);
+    }
+    EXPECT_NEAR(ncc_normalized(na.data(), nb.data(), n), 1.0f, 1e-4f);
+    // Plain NCC of the textured patches is pulled toward the ramps' 1; the de-trended
+    // NCC of texture on a ramp with independent texture on a ramp is near 0.
+    const auto tex2 = noise(n, 43);
+    for (int q = 0; q < n; ++q) b[q] = r2[q] + 0.05f * tex2[q];
+    ASSERT_TRUE(normalize_patch_detrended(b.data(), mu, rows, 1e-3f, nb.data()));
+    const float plain = ncc(a.data(), b.data(), n), detr = ncc_normalized(na.data(), nb.data(), n);
+    EXPECT_GT(plain, 0.8f) << rows;
+    EXPECT_LT(std::abs(detr), rows == 1 ? 0.7f : 0.35f) << rows;
+    EXPECT_EQ(ramp_norm2(11, rows), static_cast<float>(110 * rows));
+  }
+}
+
 TEST(PhotoBilinear, ExactOnLinearImages) {
   cv::Mat img(40, 50, CV_32F);
   const auto f = [](double u, double v) { return 0.1 + 0.013 * u - 0.007 * v; };
@@ -138,7 +184,9 @@ TEST(PhotoOrientations, FourteenUnitDirectionsClosedUnderNegation) {
     diags += nz == 3;
     int opposite = 0;
     for (int j = 0; j < kNumOrientations; ++j) {
-      if (j != i) EXPECT_LT(o[i].dot(o[j]), 1 - 1e-9) << i << " " << j;
+      if (j != i) {
+        EXPECT_LT(o[i].dot(o[j]), 1 - 1e-9) << i << " " << j;
+      }
       opposite += o[i].dot(o[j]) < -1 + 1e-9;
     }
     EXPECT_EQ(opposite, 1) << i;

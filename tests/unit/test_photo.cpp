@@ -186,7 +186,9 @@ TEST(PointScore, OnSurfaceHighWithNearestOrientation) {
         EXPECT_NEAR(r.spacing, s.footprint, 0.1 * s.footprint);
         // Orientations facing away from every camera have no score.
         for (int i = 0; i < kNumOrientations; ++i)
-          if (orientations()[i].dot(s.N) < -0.2) EXPECT_EQ(per[i], kNoScore);
+          if (orientations()[i].dot(s.N) < -0.2) {
+            EXPECT_EQ(per[i], kNoScore);
+          }
       }
   }
 }
@@ -456,7 +458,10 @@ PatchResult reference_patch(const Views& views, const Eigen::Vector3d& X, const 
       }
     }
     if (!ok) continue;
-    normalize_patch(row.data(), ns, static_cast<float>(o.min_std), row.data());
+    if (o.detrend)
+      normalize_patch_detrended(row.data(), mu, a2 ? mu : 1, static_cast<float>(o.min_std), row.data());
+    else
+      normalize_patch(row.data(), ns, static_cast<float>(o.min_std), row.data());
     rows.push_back(row);
     used.push_back(cand[ci].view);
   }
@@ -509,6 +514,7 @@ TEST(PatchKernel, BitIdenticalToTheStraightforwardFormulation) {
         o.mu = mu;
         o.k = k;
         o.adaptive_k = k > 5;
+        o.detrend = (k == 5 || k == 12);
         if (k == 12) o.min_std = 0.05;  // some constant patches too
         Scratch scratch;
         for (int p = 0; p < 12; ++p) {
