@@ -101,6 +101,9 @@ int main(int argc, char** argv) {
     f.set_attr("/", "graph_edges", r.graph_edges);
     f.set_attr("/", "graph_bytes", r.graph_bytes);
     f.set_attr("/", "split_vertices", st.split_vertices);
+    f.set_attr("/", "nonmanifold_edges", st.nonmanifold_edges);
+    f.set_attr("/", "reglued_edges", st.repaired_edges);
+    f.set_attr("/", "split_edges", st.split_edges);
     f.set_attr("/", "voids_filled", cs.voids_filled);
     f.set_attr("/", "specks_removed", cs.specks_removed);
     f.set_attr("/", "components", static_cast<std::int64_t>(chk.components.size()));
@@ -118,7 +121,9 @@ int main(int argc, char** argv) {
     std::ostringstream os;
     os << r.cut_faces << " faces, " << surface.nv() << " vertices, " << chk.components.size()
        << " components, " << (chk.closed ? "closed" : "OPEN") << ", "
-       << (chk.edge_manifold ? "edge-manifold" : "NON-MANIFOLD") << ", " << cs.voids_filled << " voids filled, "
+       << (chk.edge_manifold ? "edge-manifold" : "NON-MANIFOLD") << " (" << st.split_vertices
+       << " split vertices, " << st.nonmanifold_edges << " pinched edges: " << st.repaired_edges << " re-glued, "
+       << st.split_edges << " split), " << cs.voids_filled << " voids filled, "
        << cs.specks_removed << " specks removed, energy " << r.energy << " (data "
        << r.data_energy << ", area " << r.area_energy << "), graph " << r.graph_nodes << " nodes "
        << r.graph_edges << " edges " << r.graph_bytes / 1048576.0 << " MB";
