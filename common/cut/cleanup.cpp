@@ -45,7 +45,6 @@ CleanupStats clean_up_regions(const tet::TetMesh& m, const std::vector<std::int8
     std::vector<std::uint8_t> open(n, 0);
     for (std::int32_t c = 0; c < C; ++c) {
       if (region[c] < 0) continue;
-      if (labels[c] < 0) open[region[c]] = 1;
       for (int j = 0; j < 4; ++j)
         if (m.neighbour(c, j) < 0) open[region[c]] = 1;
     }
@@ -54,6 +53,7 @@ CleanupStats clean_up_regions(const tet::TetMesh& m, const std::vector<std::int8
       if (region[c] >= 0 && !open[region[c]]) {
         inside[c] = 1;
         ++st.void_cells;
+        st.void_exterior_cells += labels[c] < 0;
       }
   }
   // specks

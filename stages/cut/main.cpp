@@ -105,6 +105,7 @@ int main(int argc, char** argv) {
     f.set_attr("/", "reglued_edges", st.repaired_edges);
     f.set_attr("/", "split_edges", st.split_edges);
     f.set_attr("/", "voids_filled", cs.voids_filled);
+    f.set_attr("/", "void_exterior_cells", cs.void_exterior_cells);
     f.set_attr("/", "specks_removed", cs.specks_removed);
     f.set_attr("/", "components", static_cast<std::int64_t>(chk.components.size()));
     f.set_attr("/", "closed", static_cast<std::int64_t>(chk.closed));

@@ -8,6 +8,7 @@
 #include <map>
 #include <random>
 
+#include "common/cut/cleanup.h"
 #include "common/cut/surface.h"
 #include "common/tetmesh/refine.h"
 #include "common/tetmesh/tetmesh.h"
@@ -308,4 +309,68 @@ TEST(CutSurface, RandomInsideSetsGiveClosedManifoldOutwardSurfaces) {
   EXPECT_GT(pinched, 20);
   EXPECT_GT(repaired, 10);
   EXPECT_GT(split, 10);
+}
+
+// clean_up_regions (common/cut/cleanup.h): an enclosed void becomes inside even when it holds
+// an exterior label (counted), a void open to the mesh boundary stays, an unseeded speck is
+// removed and a seeded one kept. The surface afterwards is one closed shell of positive volume.
+TEST(CutCleanup, FillsEnclosedVoidsRemovesSpecks) {
+  const tet::TetMesh m = cube_mesh(6, 0);
+  const std::int32_t C = m.num_cells();
+  const auto centre = [&](std::int32_t c) {
+    Eigen::Vector3d x = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 4; ++k) x += m.vertex(m.cell_v[c][k]);
+    return Eigen::Vector3d(x / 4);
+  };
+  std::vector<std::uint8_t> inside(C, 0);
+  std::vector<std::int8_t> labels(C, 0);
+  std::int32_t void_cell = -1, speck_cell = -1, seeded_speck = -1;
+  for (std::int32_t c = 0; c < C; ++c) {
+    const Eigen::Vector3d x = centre(c);
+    const double r = (x - Eigen::Vector3d(-0.2, 0, 0)).norm();
+    inside[c] = r < 0.6 && r > 0.2;  // a thick shell around an enclosed void
+    if (r <= 0.2 && void_cell < 0) void_cell = c;
+    if (inside[c] && labels[c] == 0 && r > 0.4) labels[c] = 1;  // seeds in the shell
+  }
+  ASSERT_GE(void_cell, 0);
+  labels[void_cell] = -1;  // free-space evidence inside the enclosed void
+  // two one-cell specks far from the shell, one with an interior label
+  for (std::int32_t c = 0; c < C && (speck_cell < 0 || seeded_speck < 0); ++c) {
+    const Eigen::Vector3d x = centre(c);
+    if (x.x() > 0.75 && std::abs(x.y()) < 0.5 && std::abs(x.z()) < 0.5) {
+      bool isolated = true;
+      for (int j = 0; j < 4; ++j) {
+        const std::int32_t d = m.neighbour(c, j);
+        isolated = isolated && (d < 0 || (!inside[d] && d != speck_cell));
+        for (int q = 0; d >= 0 && q < 4; ++q) isolated = isolated && m.neighbour(d, q) != speck_cell;
+      }
+      if (!isolated) continue;
+      if (speck_cell < 0) {
+        speck_cell = c;
+      } else {
+        seeded_speck = c;
+        labels[c] = 1;
+      }
+      inside[c] = 1;
+    }
+  }
+  ASSERT_GE(speck_cell, 0);
+  ASSERT_GE(seeded_speck, 0);
+  std::vector<std::uint8_t> before = inside;
+  const CleanupStats st = clean_up_regions(m, labels, inside, 0.01);
+  EXPECT_EQ(st.voids_filled, 1);
+  EXPECT_GT(st.void_cells, 0);
+  EXPECT_EQ(st.void_exterior_cells, 1);
+  EXPECT_EQ(inside[void_cell], 1);
+  EXPECT_EQ(st.specks_removed, 1);
+  EXPECT_EQ(inside[speck_cell], 0);
+  EXPECT_EQ(inside[seeded_speck], 1);
+  EXPECT_EQ(st.inside_regions, 2);
+  // Outside cells connected to the boundary are untouched.
+  for (std::int32_t c = 0; c < C; ++c)
+    if (!before[c] && c != void_cell && centre(c).norm() > 0.9) EXPECT_EQ(inside[c], 0);
+  const TriMesh s = cut_surface(m, inside);
+  const Topology t = topology(s);
+  EXPECT_EQ(t.edges_not_two, 0);
+  EXPECT_EQ(t.euler, 4);  // two spheres: the filled ball and the seeded speck
 }
