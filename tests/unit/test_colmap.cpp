@@ -380,7 +380,9 @@ TEST(Colmap, SceneOfAWorkspaceMatchesTheCameras) {
   // the unit sphere's box, within the percentile trim and padding (the ring cameras,
   // 20 degrees up, do not see the bottom: z starts higher)
   for (int k = 0; k < 3; ++k) {
-    if (k < 2) EXPECT_LT(s.box.min()[k], -0.9);
+    if (k < 2) {
+      EXPECT_LT(s.box.min()[k], -0.9);
+    }
     EXPECT_GT(s.box.min()[k], -1.3);
     EXPECT_GT(s.box.max()[k], 0.9);
     EXPECT_LT(s.box.max()[k], 1.3);

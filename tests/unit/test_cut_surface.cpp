@@ -368,7 +368,9 @@ TEST(CutCleanup, FillsEnclosedVoidsRemovesSpecks) {
   EXPECT_EQ(st.inside_regions, 2);
   // Outside cells connected to the boundary are untouched.
   for (std::int32_t c = 0; c < C; ++c)
-    if (!before[c] && c != void_cell && centre(c).norm() > 0.9) EXPECT_EQ(inside[c], 0);
+    if (!before[c] && c != void_cell && centre(c).norm() > 0.9) {
+      EXPECT_EQ(inside[c], 0);
+    }
   const TriMesh s = cut_surface(m, inside);
   const Topology t = topology(s);
   EXPECT_EQ(t.edges_not_two, 0);

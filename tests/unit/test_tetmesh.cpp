@@ -98,7 +98,9 @@ void expect_valid(const TetMesh& m) {
   for (std::int32_t f = 0; f < m.num_faces(); ++f) {
     const Eigen::Vector3d n = m.face_normal(f), c = m.face_centroid(f);
     EXPECT_GT(n.dot(c - m.cell_centroid(m.face_cell(f, 0))), 0.0);
-    if (!m.face_on_boundary(f)) EXPECT_LT(n.dot(c - m.cell_centroid(m.face_cell(f, 1))), 0.0);
+    if (!m.face_on_boundary(f)) {
+      EXPECT_LT(n.dot(c - m.cell_centroid(m.face_cell(f, 1))), 0.0);
+    }
   }
 }
 
@@ -276,7 +278,9 @@ TEST(TetMesh, RandomRefinementStaysConforming) {
         // it has no parent); every other old face is tiled exactly
         const bool green_side = old.cell_colour[old.face_cell(g, 0)] == kGreen ||
                                 (!old.face_on_boundary(g) && old.cell_colour[old.face_cell(g, 1)] == kGreen);
-        if (!green_side) EXPECT_NEAR(cover[g] / old.face_area(g), 1.0, 1e-12) << "face " << g;
+        if (!green_side) {
+          EXPECT_NEAR(cover[g] / old.face_area(g), 1.0, 1e-12) << "face " << g;
+        }
         else EXPECT_LE(cover[g] / old.face_area(g), 1.0 + 1e-12);
       }
     }
@@ -312,7 +316,9 @@ TEST(TetMesh, SphereShellStaysConformingAndAdaptive) {
   EXPECT_LT(m.num_cells(), 0.3 * uniform);
   // the finest cells are all near the shell
   for (std::int32_t c = 0; c < m.num_cells(); ++c)
-    if (m.node_level[m.cell_node[c]] == levels) EXPECT_NEAR(m.cell_centroid(c).norm(), R, 0.6 * lat.h);
+    if (m.node_level[m.cell_node[c]] == levels) {
+      EXPECT_NEAR(m.cell_centroid(c).norm(), R, 0.6 * lat.h);
+    }
 }
 
 // The green closure must stay local: random sparse active cells make only a few extra red

@@ -120,7 +120,9 @@ void check_walk(const TetMesh& m, const Eigen::Vector3d& a, const Eigen::Vector3
     end = hi;
   }
   EXPECT_NEAR(walked, covered, 1e-7);
-  if (generic) EXPECT_NEAR(walked, total, 1e-7);
+  if (generic) {
+    EXPECT_NEAR(walked, total, 1e-7);
+  }
 }
 
 }  // namespace
