@@ -161,9 +161,52 @@ double percentile(std::vector<std::int32_t> v, double pct) {
 
 }  // namespace
 
-Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, const Options& o) {
+namespace {
+// Pixels to the nearest silhouette boundary, per view with a silhouette (empty otherwise).
+std::vector<cv::Mat> silhouette_distances(const Scene& s) {
+  std::vector<cv::Mat> dist(s.size());
+  for (int v = 0; v < s.size(); ++v)
+    if (s.has_silhouette(v)) cv::distanceTransform(s.sil[v], dist[v], cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  return dist;
+}
+
+// True when X projects at least `margin` pixels inside the silhouette of every view with a
+// silhouette whose image it falls in, and there is at least one such view.
+bool in_hull_core(const Scene& s, const std::vector<cv::Mat>& dist, const Eigen::Vector3d& X, double margin) {
+  int views = 0;
+  for (int v = 0; v < s.size(); ++v) {
+    if (dist[v].empty() || s.cams[v].depth(X) <= 0) continue;
+    const Eigen::Vector2d p = s.cams[v].project(X);
+    const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
+    if (u < 0 || w < 0 || u >= s.cams[v].width || w >= s.cams[v].height) continue;
+    if (dist[v].at<float>(w, u) < margin) return false;
+    ++views;
+  }
+  return views > 0;
+}
+}  // namespace
+
+Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, const Options& o) {
   const std::int32_t C = m.num_cells();
   Result r;
+  // With the hull-core prior the core is matter, so points of Q inside it are false
+  // matches: they are dropped before they cast votes or make depth maps (their rays would
+  // carve tunnels through the core).
+  std::vector<cv::Mat> dist;
+  QPoints q_core;
+  if (o.hull_core_px > 0) {
+    dist = silhouette_distances(s);
+    for (std::int64_t p = 0; p < q_in.size(); ++p) {
+      if (in_hull_core(s, dist, q_in.pos(p), o.hull_core_px)) {
+        ++r.q_dropped;
+        continue;
+      }
+      const std::vector<std::int32_t> cams(q_in.cams.begin() + q_in.cam_offsets[p],
+                                           q_in.cams.begin() + q_in.cam_offsets[p + 1]);
+      q_core.add(q_in.pos(p), q_in.nrm(p), q_in.score[p], cams, q_in.face[p]);
+    }
+  }
+  const QPoints& q = o.hull_core_px > 0 ? q_core : q_in;
   r.label.assign(C, 0);
   r.reason.assign(C, kNone);
   const int finest = m.max_cell_level();
@@ -255,6 +298,38 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, cons
     else if (votes > r.high_votes && votes >= o.min_exterior_votes && outside_views >= o.free_views)
       decided[c] = -1;
   }
+  // 4. the optional hull-core prior (Options::hull_core_px)
+  if (o.hull_core_px > 0) {
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::int32_t c = 0; c < C; ++c) {
+      if (r.label[c] != 0) continue;  // box boundary or outside the hull
+      const Eigen::Vector3d X = m.cell_centroid(c);
+      int deep = 0;
+      bool ok = true;
+      for (int v = 0; v < s.size() && ok; ++v) {
+        if (!s.has_silhouette(v)) continue;
+        const Camera& cam = s.cams[v];
+        if (cam.depth(X) <= 0) continue;
+        const Eigen::Vector2d p = cam.project(X);
+        const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
+        if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
+        // projected radius of the cell around its centre, in pixels
+        double rad = 0;
+        for (int k = 0; k < 4; ++k) {
+          const Eigen::Vector3d V = m.vertex(m.cell_v[c][k]);
+          rad = cam.depth(V) > 0 ? std::max(rad, (cam.project(V) - p).norm()) : 1e30;
+        }
+        ok = dist[v].at<float>(w, u) >= rad + 1.0 + o.hull_core_px;  // +1: pixel rounding
+        ++deep;
+      }
+      if (ok && deep >= o.min_occluding_views) decided[c] = 2;
+    }
+  }
+  for (std::int32_t c = 0; c < C; ++c)
+    if (decided[c] == 2) {
+      r.label[c] = 1;
+      r.reason[c] = kHullCore;
+    }
   for (std::int32_t c : candidates) {
     if (decided[c] == 1) {
       r.label[c] = 1;
@@ -270,6 +345,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, cons
     r.boundary += r.reason[c] == kBoundary;
     r.hull_exterior += r.reason[c] == kOutsideHull;
     r.voted_out += r.reason[c] == kVotedOut;
+    r.hull_core += r.reason[c] == kHullCore;
   }
   return r;
 }

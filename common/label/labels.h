@@ -28,6 +28,7 @@
 // Votes: every point of Q casts a ray to each camera it is photo-consistent in, starting
 // `vote_offset` cell sizes in front of the point; every cell the ray crosses gets a vote.
 // "Inactive" cells are the cells coarser than the finest level (away from the surface).
+// Optional hull-core prior (Options::hull_core_px, off by default): see Options.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -44,6 +45,7 @@ enum Reason : std::uint8_t {
   kOutsideHull = 2,   // exterior: outside a silhouette
   kVotedOut = 3,      // exterior: many votes, seen as free space
   kHidden = 4,        // interior: few votes, hidden behind Q in every view
+  kHullCore = 7,      // interior: deep inside every silhouette (optional prior; 5, 6: silhouette-fix)
 };
 
 struct Options {
@@ -54,6 +56,15 @@ struct Options {
   double vote_offset = 1.0;     // rays start this many finest cell sizes in front of a point
   double depth_margin = 2.0;    // occlusion / free-space margin, in finest cell sizes
   int free_views = 3;           // free space seen in this many views is sure (see below)
+  // Hull-core prior (0 = off): a cell, active or not, whose whole projection lies at least
+  // this many pixels inside the silhouette in every view with a silhouette that it
+  // projects into (at least min_occluding_views of them) is interior, whatever Q says;
+  // points of Q inside that core are dropped as false matches before votes and depth maps.
+  // For weakly textured objects whose photo-consistency cannot tell the surface from the
+  // inside (real dinoRing): the surface is then sought only in a band of this width under
+  // the visual hull's surface. Wrong in concavities deeper than the margin, even ones the
+  // cameras see into, so off by default.
+  double hull_core_px = 0;
 };
 
 struct Result {
@@ -70,8 +81,9 @@ struct Result {
   // the views where it projects into the image at all.
   std::vector<std::uint8_t> free_views, beyond_views, hidden_views, seen_views;
   double low_votes = 0, high_votes = 0;  // the percentile values
-  std::int64_t interior = 0, exterior = 0, hull_exterior = 0, boundary = 0, voted_out = 0;
+  std::int64_t interior = 0, exterior = 0, hull_exterior = 0, boundary = 0, voted_out = 0, hull_core = 0;
   std::int64_t rays = 0;
+  std::int64_t q_dropped = 0;  // points of Q inside the hull core (prior on), not used
 };
 
 // Per cell: 1 when the cell is surely outside the visual hull (see top).

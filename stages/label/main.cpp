@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
     o.vote_offset = ctx.params.d("label.vote_offset");
     o.depth_margin = ctx.params.d("label.depth_margin");
     o.free_views = ctx.params.i("label.free_views");
+    o.hull_core_px = ctx.params.d("label.hull_core_px");
     info("label: ", mesh.num_cells(), " cells, ", q.size(), " points, ", scene.num_silhouettes(), " silhouettes");
     const label::Result r = label::label_cells(mesh, scene, q, o);
     require(r.interior > 0, scores_file, ": no cell could be labelled interior (too few points Q?); "
@@ -75,6 +76,8 @@ int main(int argc, char** argv) {
     f.set_attr("/", "boundary", r.boundary);
     f.set_attr("/", "hull_exterior", r.hull_exterior);
     f.set_attr("/", "voted_out", r.voted_out);
+    f.set_attr("/", "hull_core", r.hull_core);
+    f.set_attr("/", "q_dropped", r.q_dropped);
     f.set_attr("/", "rays", r.rays);
     f.commit();
     if (!slice.empty()) {
@@ -87,7 +90,8 @@ int main(int argc, char** argv) {
     }
     std::ostringstream os;
     os << r.interior << " interior, " << r.exterior << " exterior (" << r.boundary << " boundary, "
-       << r.hull_exterior << " hull, " << r.voted_out << " votes), " << r.rays << " rays, vote percentiles "
+       << r.hull_exterior << " hull, " << r.voted_out << " votes), " << r.hull_core << " interior by the hull core (" << r.q_dropped << " points of Q in it dropped), "
+       << r.rays << " rays, vote percentiles "
        << r.low_votes << " / " << r.high_votes;
     ctx.summary = os.str();
   });

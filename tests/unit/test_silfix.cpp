@@ -345,3 +345,38 @@ TEST(SilFix, ViewPictureColoursAndSheet) {
   EXPECT_EQ(sheet.cols, 2 * 120);
   EXPECT_GT(sheet.rows, 2 * 80);
 }
+
+// label's optional hull-core prior (label.hull_core_px): on the horn scene (12 ring views,
+// exact silhouettes) the cells deep inside every silhouette are labelled interior, none of
+// them outside the ground truth, most of the object's volume is covered, and a point of Q
+// inside the core is dropped while one on the surface is kept.
+TEST(LabelHullCore, CoreCellsAreInsideAndFalseMatchesAreDropped) {
+  const HornCase& h = horn();
+  QPoints q;
+  const std::vector<std::int32_t> cams{0, 1, 2, 3};
+  q.add(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), 0.95f, cams, -1);      // deep inside
+  q.add(Eigen::Vector3d(1.0, 0, 0), Eigen::Vector3d(1, 0, 0), 0.95f, cams, -1);    // on the sphere
+  label::Options o;
+  o.hull_core_px = 0;
+  const label::Result off = label::label_cells(h.mesh, h.scene, q, o);
+  EXPECT_EQ(off.hull_core, 0);
+  EXPECT_EQ(off.q_dropped, 0);
+  o.hull_core_px = 2;
+  const label::Result on = label::label_cells(h.mesh, h.scene, q, o);
+  EXPECT_EQ(on.q_dropped, 1);
+  std::int64_t core = 0, wrong = 0;
+  double core_volume = 0, gt_volume = 0;
+  for (std::int32_t c = 0; c < h.mesh.num_cells(); ++c) {
+    if (h.in_gt[c]) gt_volume += h.mesh.cell_volume(c);
+    if (on.reason[c] != label::kHullCore) continue;
+    ++core;
+    EXPECT_EQ(on.label[c], 1);
+    wrong += !h.in_gt[c];
+    core_volume += h.mesh.cell_volume(c);
+  }
+  std::printf("hull core: %lld cells, %lld outside the object, %.3f of its volume\n", (long long)core,
+              (long long)wrong, core_volume / gt_volume);
+  EXPECT_EQ(on.hull_core, core);
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(core_volume, 0.5 * gt_volume);
+}
