@@ -66,7 +66,14 @@ STAMPS := $(RUN_DIR)/.params
 # makefile is read) only when they change, so its time stamp tells make exactly when the
 # stage's parameters last changed. Done at parse time so that `make -n` is truthful.
 ALL_STAGES := ingest bcc-init photoconsist refine label cut silhouette-fix deform evaluate
-stamp_text = $(call set_args,$(1)) $(STAGE_FLAGS) $(if $(PARAMS),$(firstword $(shell sha256sum $(PARAMS))))
+# From a PARAMS file, only the entries of the stage's own parameters count (sorted
+# "key": value text): editing a label parameter there reruns label and what follows, not
+# photoconsist; a comment or another stage's key changes nothing.
+empty :=
+space := $(empty) $(empty)
+stage_keys = $(foreach v,$(MAKE_PARAMS),$(if $(filter $(1),$(PARAM_$(v)_STAGES)),$(subst .,\.,$(PARAM_$(v)_KEY))))
+params_for = $(if $(and $(PARAMS),$(call stage_keys,$(1))),$(shell tr -d '\n' < '$(PARAMS)' | grep -oE '"($(subst $(space),|,$(strip $(call stage_keys,$(1)))))" *: *("[^"]*"|[^,}]*)' | tr -d ' ' | LC_ALL=C sort | tr '\n' ' '))
+stamp_text = $(call set_args,$(1)) $(STAGE_FLAGS) $(subst ','"'"',$(call params_for,$(1)))
 # A dry run (make -n) must not touch the run: it compares against a copy of the stamps.
 # (MAKEFLAGS's first word holds the single-letter flags; without any it is pipeline.mk's own
 # --no-builtin-rules, whose n is not a dry run.)

@@ -9,6 +9,7 @@ import json
 import os
 import re
 import shutil
+import tempfile
 import sys
 
 sys.path.insert(0, os.path.dirname(__file__))
@@ -108,6 +109,22 @@ def main():
         expect(not set(ran) & {"ingest", "bcc-init", "synth"}, f"T does not rerun ingest/bcc-init, ran {ran}")
     r = tiny_run.make(BIN, SRC, ["-n", target], extra=["SIL_THRESHOLD=0.2"])
     expect("ingest" in stages_run(r.stdout), "an ingest parameter reruns ingest")
+    # A PARAMS file: editing one stage's entry changes only that stage's stamp (a comment or
+    # another stage's key changes nothing), so only it and what follows rerun.
+    with tempfile.TemporaryDirectory() as tmp:
+        pfile, rdir = os.path.join(tmp, "p.json"), os.path.join(tmp, "run")
+
+        def stamps(text):
+            with open(pfile, "w") as f:
+                f.write(text)
+            tiny_run.make(BIN, SRC, ["-n", "ingest"], extra=[f"PARAMS={pfile}"], run_dir=rdir)
+            d = os.path.join(rdir, ".params-dry")
+            return {n: open(os.path.join(d, n)).read() for n in os.listdir(d)}
+        a = stamps('{"_comment": "a", "label.low_percentile": 10, "photo.T": 0.8}')
+        b = stamps('{"_comment": "b",\n "label.low_percentile": 12, "photo.T": 0.8}')
+        changed = sorted(n for n in a if a[n] != b[n])
+        expect(changed == ["label.args"], f"a label entry of PARAMS changes only label's stamp, changed {changed}")
+        expect('"photo.T":0.8' in a["photoconsist.args"], "photoconsist's stamp holds its PARAMS entry")
     CHECKS.finish()
 
 
