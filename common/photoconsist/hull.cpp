@@ -8,8 +8,9 @@
 
 namespace tetmvs::photoconsist {
 
-HullTest::HullTest(const photo::Views& views, const std::vector<cv::Mat>& sil, double margin_px)
+HullTest::HullTest(const photo::Views& views, const std::vector<cv::Mat>& sil, double margin_px, double core_px)
     : views_(&views) {
+  require(core_px >= 0, "photoconsist: hull core margin ", core_px, " must be >= 0");
   require(sil.empty() || static_cast<int>(sil.size()) == views.size(), "photoconsist: ", sil.size(),
           " silhouettes for ", views.size(), " views");
   require(margin_px >= 0, "photoconsist: hull margin ", margin_px, " must be >= 0");
@@ -31,7 +32,27 @@ HullTest::HullTest(const photo::Views& views, const std::vector<cv::Mat>& sil, d
     bin.convertTo(bin, CV_8U, 1.0 / 255.0);
     cv::integral(bin, ii, CV_32S);
     integral_.push_back(ii);
+    if (core_px > 0) {
+      cv::Mat dist;
+      cv::distanceTransform(sil[v], dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+      core_.push_back(dist >= core_px);
+    }
   }
+}
+
+bool HullTest::in_core(const Eigen::Vector3d& X) const {
+  if (core_.empty()) return false;
+  int views = 0;
+  for (std::size_t s = 0; s < idx_.size(); ++s) {
+    const photo::View& v = (*views_)[idx_[s]];
+    const Eigen::Vector3d h = v.project_h(X);
+    if (!(h.z() > 0)) continue;
+    const long x = std::lround(h.x() / h.z()), y = std::lround(h.y() / h.z());
+    if (x < 0 || y < 0 || x >= v.width || y >= v.height) continue;
+    if (core_[s].at<std::uint8_t>(static_cast<int>(y), static_cast<int>(x)) == 0) return false;
+    ++views;
+  }
+  return views > 0;
 }
 
 bool HullTest::inside(const Eigen::Vector3d& X) const {

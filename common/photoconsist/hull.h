@@ -16,8 +16,14 @@ class HullTest {
  public:
   HullTest() = default;
   // sil: one (possibly empty) CV_8U mask per view (255 = object), as in Scene::sil.
-  HullTest(const photo::Views& views, const std::vector<cv::Mat>& sil, double margin_px);
+  // core_px > 0 also sets up in_core() (label.hull_core_px: the hull-core prior).
+  HullTest(const photo::Views& views, const std::vector<cv::Mat>& sil, double margin_px, double core_px = 0);
   bool inside(const Eigen::Vector3d& X) const;
+  // True when X projects at least core_px pixels inside the silhouette (distance to its
+  // boundary, as label's prior measures it) in every view with a silhouette whose image
+  // it falls in, and there is such a view. Always false when core_px is 0. With the
+  // hull-core prior such points are matter, never surface: photoconsist skips them.
+  bool in_core(const Eigen::Vector3d& X) const;
   // True when every point of triangle (a, b, c) is outside the hull: in some view with a
   // silhouette, the triangle is in front and projects inside the image, and the bounding
   // box of its projection holds no (dilated) silhouette pixel. False means "maybe".
@@ -29,6 +35,7 @@ class HullTest {
   std::vector<int> idx_;          // views with a silhouette
   std::vector<cv::Mat> dilated_;  // their dilated silhouettes
   std::vector<cv::Mat> integral_; // integral images (CV_32S) of dilated_ != 0
+  std::vector<cv::Mat> core_;     // distance to the silhouette boundary >= core_px (CV_8U), if core_px > 0
 };
 
 }  // namespace tetmvs::photoconsist

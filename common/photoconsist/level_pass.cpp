@@ -126,7 +126,7 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
         for (int j = 0; j <= n && !all_outside; ++j)
           for (int i = 0; i + j <= n; ++i, ++p) {
             const Eigen::Vector3d X = lattice_point(a, b, c, n, i, j);
-            if (!hull.inside(X)) continue;
+            if (!hull.inside(X) || hull.in_core(X)) continue;  // not a sample
             if (w.codes.empty()) w.codes.assign(static_cast<std::size_t>(lattice_size(n)), kCodeOutside);
             const photo::PointResult r = photo::score_point(views, X, nf, opts.line, scratch);
             w.codes[p] = encode_point(r, opts.line);

@@ -46,6 +46,7 @@ Options Options::from_params(const Params& p) {
   o.line.T = p.d("photo.T");
   o.lattice_px = p.d("photo.lattice_px");
   o.hull_margin_px = p.d("photo.hull_margin_px");
+  o.hull_core_px = p.d("label.hull_core_px");
   o.rule.fraction = p.d("photo.cross_fraction");
   o.rule.points = p.i("photo.cross_points");
   o.rule.min_points_abs = p.i("photo.cross_min");
@@ -63,7 +64,8 @@ std::string Options::cache_signature() const {
      << " min_std=" << line.min_std << " sil=" << line.use_silhouettes << " adaptive_k=" << line.adaptive_k << " lattice_px=" << lattice_px
      << " hull_margin_px=" << hull_margin_px;
   if (line.detrend) os << " detrend=1";
-  if (line.point_grid) os << " grid=1";  // absent when off: caches written before the option stay valid
+  if (line.point_grid) os << " grid=1";
+  if (hull_core_px > 0) os << " hull_core_px=" << hull_core_px;  // absent when off: caches written before the option stay valid
   return os.str();
 }
 

@@ -36,6 +36,7 @@ struct Options {
   photo::Options face;        // face scores: mu = photo.mu (the mu x mu grid)
   double lattice_px = 1.0;    // photo.lattice_px: max projected spacing of lattice points
   double hull_margin_px = 2;  // photo.hull_margin_px: silhouettes dilated by this for the hull test
+  double hull_core_px = 0;    // label.hull_core_px: lattice points this deep in every silhouette are skipped
   CrossingRule rule;
   void check() const;
   static Options from_params(const Params& p);

@@ -88,7 +88,7 @@ int main(int argc, char** argv) {
     scene.load_grey();
     const tet::TetMesh mesh = tet::read_mesh(mesh_file);
     const photo::Views views(scene.cams, scene.grey, scene.sil);
-    const pc::HullTest hull(views, scene.sil, opts.hull_margin_px);
+    const pc::HullTest hull(views, scene.sil, opts.hull_margin_px, opts.hull_core_px);
     std::optional<pc::GroundTruth> gt;
     if (!gt_file.empty()) gt.emplace(read_ply(gt_file));
 
