@@ -7,8 +7,9 @@
 //    closed surface seen from outside; such cells are counted (void_exterior_cells).
 //  - specks: connected regions of inside cells whose volume is below `min_fraction` of the
 //    largest region and which hold no interior-labelled cell become outside. Interior labels
-//    marked `weak` (silhouette-fix's constraints) do not protect a speck: a constraint
-//    that pulled nothing but its own cell is a speck, not a protrusion.
+//    marked `weak` (silhouette-fix's constraints, the hull-core prior's cells) do not
+//    protect a speck: a constraint that pulled nothing but its own cell is a speck, not a
+//    protrusion.
 // Regions are face-connected. Apart from enclosed voids, labels are never contradicted.
 #pragma once
 #include <cstdint>
