@@ -293,7 +293,11 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       }
     }
     const int votes = r.votes[c];
-    if (in_hull && votes <= r.low_votes && free_space == 0 && beyond == 0 && sandwiched >= o.min_occluding_views)
+    // With the hull-core prior, the core supplies the interior; "hidden behind Q" in the band
+    // under the hull's surface rests on the very points the prior distrusts (measured on
+    // dinoRing: single-cell specks outside the body).
+    if (o.hull_core_px <= 0 && in_hull && votes <= r.low_votes && free_space == 0 && beyond == 0 &&
+        sandwiched >= o.min_occluding_views)
       decided[c] = 1;
     else if (votes > r.high_votes && votes >= o.min_exterior_votes && outside_views >= o.free_views)
       decided[c] = -1;

@@ -59,7 +59,8 @@ struct Options {
   // Hull-core prior (0 = off): a cell, active or not, whose whole projection lies at least
   // this many pixels inside the silhouette in every view with a silhouette that it
   // projects into (at least min_occluding_views of them) is interior, whatever Q says;
-  // points of Q inside that core are dropped as false matches before votes and depth maps.
+  // points of Q inside that core are dropped as false matches before votes and depth maps,
+  // and the "hidden behind Q" interior rule is off (the core replaces it).
   // For weakly textured objects whose photo-consistency cannot tell the surface from the
   // inside (real dinoRing): the surface is then sought only in a band of this width under
   // the visual hull's surface. Wrong in concavities deeper than the margin, even ones the
