@@ -495,7 +495,7 @@ TEST(PhotoconsistScene, HullCorePointsAreInsideTheObject) {
   const pc::HullTest h3(*F.views, F.scene.sil, 2, 3), h8(*F.views, F.scene.sil, 2, 8);
   const Eigen::AlignedBox3d& box = F.scene.box;
   std::int64_t core3 = 0, core8 = 0, inside = 0, wrong = 0;
-  const int n = 40;
+  const int n = 24;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k) {
