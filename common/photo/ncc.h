@@ -13,6 +13,21 @@
 
 namespace tetmvs::photo {
 
+namespace detail {
+// The end of both normalizations: out (n centred samples, sum of squares ss) scaled to unit
+// norm, or zeros and false when the standard deviation sqrt(ss / n) is below min_std
+// (ss < n min_std^2; ss == 0 always counts).
+inline bool scale_to_unit(float* out, int n, float ss, float min_std) {
+  if (!(ss > static_cast<float>(n) * min_std * min_std) || ss <= 0.f) {
+    for (int i = 0; i < n; ++i) out[i] = 0.f;
+    return false;
+  }
+  const float inv = 1.f / std::sqrt(ss);
+  for (int i = 0; i < n; ++i) out[i] *= inv;
+  return true;
+}
+}  // namespace detail
+
 // Writes (x - mean) / ||x - mean|| to out (out may alias x). Returns false, and writes
 // zeros, when the patch is constant (standard deviation < min_std).
 inline bool normalize_patch(const float* x, int n, float min_std, float* out) {
@@ -25,14 +40,7 @@ inline bool normalize_patch(const float* x, int n, float min_std, float* out) {
     out[i] = c;
     ss += c * c;
   }
-  // std = sqrt(ss / n) < min_std  <=>  ss < n min_std^2 (and ss == 0 always counts)
-  if (!(ss > static_cast<float>(n) * min_std * min_std) || ss <= 0.f) {
-    std::fill(out, out + n, 0.f);
-    return false;
-  }
-  const float inv = 1.f / std::sqrt(ss);
-  for (int i = 0; i < n; ++i) out[i] *= inv;
-  return true;
+  return detail::scale_to_unit(out, n, ss, min_std);
 }
 
 // Sum of t^2 over a rows x mu patch, t = i - mu/2 the sample's offset along a row: the
@@ -72,13 +80,7 @@ inline bool normalize_patch_detrended(const float* x, int mu, int rows, float mi
       out[j * mu + i] = r;
       ss += r * r;
     }
-  if (!(ss > static_cast<float>(n) * min_std * min_std) || ss <= 0.f) {
-    std::fill(out, out + n, 0.f);
-    return false;
-  }
-  const float inv = 1.f / std::sqrt(ss);
-  for (int i = 0; i < n; ++i) out[i] *= inv;
-  return true;
+  return detail::scale_to_unit(out, n, ss, min_std);
 }
 
 // NCC of two normalized patches (outputs of normalize_patch): their dot product,

@@ -44,25 +44,29 @@ bool HullTest::in_core(const Eigen::Vector3d& X) const {
   if (core_.empty()) return false;
   int views = 0;
   for (std::size_t s = 0; s < idx_.size(); ++s) {
-    const photo::View& v = (*views_)[idx_[s]];
-    const Eigen::Vector3d h = v.project_h(X);
-    if (!(h.z() > 0)) continue;
-    const long x = std::lround(h.x() / h.z()), y = std::lround(h.y() / h.z());
-    if (x < 0 || y < 0 || x >= v.width || y >= v.height) continue;
-    if (core_[s].at<std::uint8_t>(static_cast<int>(y), static_cast<int>(x)) == 0) return false;
+    int x, y;
+    if (!pixel(s, X, x, y)) continue;
+    if (core_[s].at<std::uint8_t>(y, x) == 0) return false;
     ++views;
   }
   return views > 0;
 }
 
+bool HullTest::pixel(std::size_t s, const Eigen::Vector3d& X, int& x, int& y) const {
+  const photo::View& v = (*views_)[idx_[s]];
+  const Eigen::Vector3d h = v.project_h(X);
+  if (!(h.z() > 0)) return false;
+  const long lx = std::lround(h.x() / h.z()), ly = std::lround(h.y() / h.z());
+  if (lx < 0 || ly < 0 || lx >= v.width || ly >= v.height) return false;
+  x = static_cast<int>(lx);
+  y = static_cast<int>(ly);
+  return true;
+}
+
 bool HullTest::inside(const Eigen::Vector3d& X) const {
   for (std::size_t s = 0; s < idx_.size(); ++s) {
-    const photo::View& v = (*views_)[idx_[s]];
-    const Eigen::Vector3d h = v.project_h(X);
-    if (!(h.z() > 0)) continue;
-    const long x = std::lround(h.x() / h.z()), y = std::lround(h.y() / h.z());
-    if (x < 0 || y < 0 || x >= v.width || y >= v.height) continue;
-    if (dilated_[s].at<std::uint8_t>(static_cast<int>(y), static_cast<int>(x)) == 0) return false;
+    int x, y;
+    if (pixel(s, X, x, y) && dilated_[s].at<std::uint8_t>(y, x) == 0) return false;
   }
   return true;
 }

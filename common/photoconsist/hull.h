@@ -31,6 +31,9 @@ class HullTest {
   int num_silhouettes() const { return static_cast<int>(idx_.size()); }
 
  private:
+  // Nearest pixel (x, y) of X in the s-th view with a silhouette; false when X is behind
+  // that camera or projects outside its image.
+  bool pixel(std::size_t s, const Eigen::Vector3d& X, int& x, int& y) const;
   const photo::Views* views_ = nullptr;
   std::vector<int> idx_;          // views with a silhouette
   std::vector<cv::Mat> dilated_;  // their dilated silhouettes
