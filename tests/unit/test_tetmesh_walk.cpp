@@ -7,6 +7,7 @@
 
 #include "common/tetmesh/locate.h"
 #include "common/tetmesh/refine.h"
+#include "tests/unit/sanitized.h"
 
 using namespace tetmvs::tet;
 
@@ -169,7 +170,7 @@ TEST(TetMeshWalk, RandomSegmentsAgreeWithBruteForce) {
   std::mt19937 rng(5);
   const auto box = m.lat.grid_box();
   std::uniform_real_distribution<double> U(-0.2, 1.2);
-  for (int i = 0; i < 400; ++i) {
+  for (int i = 0; i < tetmvs::test::reps(400, 100); ++i) {
     const Eigen::Vector3d a = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(U(rng), U(rng), U(rng)));
     const Eigen::Vector3d b = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(U(rng), U(rng), U(rng)));
     SCOPED_TRACE(i);
@@ -187,7 +188,8 @@ TEST(TetMeshWalk, DegenerateSegments) {
   inner.min().array() += 0.6 * m.lat.h;
   inner.max().array() -= 0.6 * m.lat.h;
   int through = 0;
-  for (int i = 0; i < 400; ++i) {
+  const int n = tetmvs::test::reps(400, 100);
+  for (int i = 0; i < n; ++i) {
     SCOPED_TRACE(i);
     // vertex to vertex (through vertices, often along edges or faces of the lattice)
     const Eigen::Vector3d a = m.vertex(rng() % NV), b = m.vertex(rng() % NV);
@@ -208,7 +210,7 @@ TEST(TetMeshWalk, DegenerateSegments) {
     check_walk(m, c + t0 * dir, c + t1 * dir, false);
     ++through;
   }
-  EXPECT_GT(through, 300);
+  EXPECT_GT(through, 3 * n / 4);
 }
 
 TEST(TetMeshWalk, RaysLeaveTheBox) {
