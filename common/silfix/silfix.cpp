@@ -22,6 +22,7 @@ void Options::check() const {
   require(min_region_px >= 1, "silfix.min_region_px must be >= 1, got ", min_region_px);
   require(min_peak >= 0 && min_peak <= 1, "silfix.min_peak must be in [0, 1], got ", min_peak);
   require(peak_ratio > 0 && peak_ratio <= 1, "silfix.peak_ratio must be in (0, 1], got ", peak_ratio);
+  require(max_gap_cells >= 0, "silfix.max_gap_cells must be >= 0, got ", max_gap_cells);
 }
 
 cv::Mat surface_mask(const TriMesh& surface, const Camera& cam) {
@@ -139,7 +140,11 @@ int interior_hit_on_ray(const tet::TetMesh& m, const std::vector<float>& omega,
   int segments = 0, a = -1, b = -1;
   for (int i = 0; i < n; ++i) {
     if (outside[i]) continue;
-    const bool cont = i > 0 && !outside[i - 1] && hits[i].face_in >= 0 && hits[i].face_in == hits[i - 1].face_out;
+    // Continues the current segment when the walk is unbroken from its last inside cell b
+    // and at most max_gap_cells outside cells lie in between.
+    bool cont = b >= 0 && i - b - 1 <= o.max_gap_cells;
+    for (int j = b + 1; cont && j <= i; ++j)
+      cont = hits[j].face_in >= 0 && hits[j].face_in == hits[j - 1].face_out;
     if (!cont) {
       ++segments;
       a = i;
@@ -323,12 +328,24 @@ Result fix_silhouettes(const tet::TetMesh& m, const Scene& s, const TriMesh& s1,
               else ++w.st.weak_peaks;
               continue;
             }
-            const std::int32_t c = hits[k].cell;
-            Eigen::Vector3d X[4];
-            cell_corners(m, c, X);
-            bool corners_in = true;
-            for (int j = 0; j < 4 && corners_in; ++j) corners_in = in_all_silhouettes(s, X[j]);
-            if (!corners_in) {
+            // The interval's middle cell, or else the cell nearest to it (ties: nearer the
+            // camera) that lies wholly inside the interval, whose four corners project
+            // inside every silhouette.
+            auto corners_in = [&](std::int32_t c) {
+              Eigen::Vector3d X[4];
+              cell_corners(m, c, X);
+              for (int j = 0; j < 4; ++j)
+                if (!in_all_silhouettes(s, X[j])) return false;
+              return true;
+            };
+            std::int32_t c = corners_in(hits[k].cell) ? hits[k].cell : -1;
+            const int nh = static_cast<int>(hits.size());
+            for (int d = 1; c < 0 && o.search_interval && d < nh; ++d)
+              for (const int i : {k - d, k + d})
+                if (c < 0 && i >= 0 && i < nh && !outside[i] && hits[i].t_out > pk.t_front &&
+                    hits[i].t_in < pk.t_back && corners_in(hits[i].cell))
+                  c = hits[i].cell;
+            if (c < 0) {
               ++w.st.corner_outside;
               continue;
             }

@@ -27,7 +27,12 @@
 //  score is >= `peak_ratio` * B closes the depth interval. The cell holding the interval's
 //  middle becomes INTERIOR, provided its four corners project inside every silhouette.
 //  Rays with no segment or several, weak peaks, or a failed corner check are skipped and
-//  counted.
+//  counted. Two options (off by default: the paper's rule) serve surfaces that lie in a thin
+//  band under the visual hull, as with the hull-core prior, where S1 misses a band of 1-4 px
+//  all along the rim: `max_gap_cells` joins runs separated by at most that many cells outside
+//  the hull into one segment (a ray grazing the hull crosses its jagged cell boundary several
+//  times: 78 % of dinoRing's rays had several segments), and `search_interval` takes, when
+//  the middle cell fails the corner check, the nearest cell of the interval that passes it.
 //
 //  Hard labels are never overturned: an exterior constraint on an interior cell, or an
 //  interior constraint on an exterior cell (from label or from this pass), is a conflict:
@@ -59,6 +64,8 @@ struct Options {
   int min_region_px = 4;     // error regions with fewer pixels are ignored
   double min_peak = 0.5;     // front and back peaks must reach this omega
   double peak_ratio = 0.8;   // "next significant back-facing peak": >= this * the strongest behind
+  bool search_interval = false;  // when the middle cell fails the corner test, try the others in the interval
+  int max_gap_cells = 0;     // runs of inside cells separated by at most this many outside cells are one segment
   bool exterior = true;      // add exterior constraints
   bool interior = true;      // add interior constraints
   void check() const;        // throws Error on a bad value

@@ -132,6 +132,8 @@ int main(int argc, char** argv) {
     o.min_region_px = ctx.params.i("silfix.min_region_px");
     o.min_peak = ctx.params.d("silfix.min_peak");
     o.peak_ratio = ctx.params.d("silfix.peak_ratio");
+    o.max_gap_cells = ctx.params.i("silfix.max_gap_cells");
+    o.search_interval = ctx.params.b("silfix.search_interval");
     info("silhouette-fix: ", C, " cells, S1 ", s1.nf(), " triangles, ", scene.num_silhouettes(), " silhouettes");
     silfix::Result r;
     SilhouetteAgreement agree;
