@@ -10,6 +10,7 @@
 
 #include "common/error.h"
 #include "common/label/labels.h"
+#include "common/params.h"
 #include "common/trimesh/raster.h"
 
 namespace tetmvs::silfix {
@@ -23,6 +24,21 @@ void Options::check() const {
   require(min_peak >= 0 && min_peak <= 1, "silfix.min_peak must be in [0, 1], got ", min_peak);
   require(peak_ratio > 0 && peak_ratio <= 1, "silfix.peak_ratio must be in (0, 1], got ", peak_ratio);
   require(max_gap_cells >= 0, "silfix.max_gap_cells must be >= 0, got ", max_gap_cells);
+}
+
+Options Options::from_params(const Params& p) {
+  Options o;
+  o.margin_px = p.d("silfix.margin_px");
+  o.pad_px = p.d("silfix.pad_px");
+  o.max_per_region = p.i("silfix.max_per_region");
+  o.spacing_px = p.d("silfix.spacing_px");
+  o.min_region_px = p.i("silfix.min_region_px");
+  o.min_peak = p.d("silfix.min_peak");
+  o.peak_ratio = p.d("silfix.peak_ratio");
+  o.max_gap_cells = p.i("silfix.max_gap_cells");
+  o.search_interval = p.b("silfix.search_interval");
+  o.check();
+  return o;
 }
 
 cv::Mat surface_mask(const TriMesh& surface, const Camera& cam) {

@@ -50,6 +50,10 @@
 #include "common/tetmesh/tetmesh.h"
 #include "common/trimesh/trimesh.h"
 
+namespace tetmvs {
+class Params;
+}
+
 namespace tetmvs::silfix {
 
 // Label reasons written by silhouette-fix (schemas/labels.md).
@@ -69,6 +73,7 @@ struct Options {
   bool exterior = true;      // add exterior constraints
   bool interior = true;      // add interior constraints
   void check() const;        // throws Error on a bad value
+  static Options from_params(const Params& p);  // reads silfix.*, then check()s
 };
 
 enum Kind : std::int8_t { kExteriorKind = -1, kInteriorKind = 1 };

@@ -124,16 +124,7 @@ int main(int argc, char** argv) {
     }
     require(pass_through || s1.nf() > 0, "silhouette-fix: the first surface is empty");
 
-    silfix::Options o;
-    o.margin_px = ctx.params.d("silfix.margin_px");
-    o.pad_px = ctx.params.d("silfix.pad_px");
-    o.max_per_region = ctx.params.i("silfix.max_per_region");
-    o.spacing_px = ctx.params.d("silfix.spacing_px");
-    o.min_region_px = ctx.params.i("silfix.min_region_px");
-    o.min_peak = ctx.params.d("silfix.min_peak");
-    o.peak_ratio = ctx.params.d("silfix.peak_ratio");
-    o.max_gap_cells = ctx.params.i("silfix.max_gap_cells");
-    o.search_interval = ctx.params.b("silfix.search_interval");
+    const silfix::Options o = silfix::Options::from_params(ctx.params);
     info("silhouette-fix: ", C, " cells, S1 ", s1.nf(), " triangles, ", scene.num_silhouettes(), " silhouettes");
     silfix::Result r;
     SilhouetteAgreement agree;
