@@ -4,8 +4,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
-#include <unordered_map>
+#include <ctime>
 #include <opencv2/imgproc.hpp>
 
 #include "common/deform/forces.h"
@@ -23,6 +24,37 @@ namespace tetmvs::deform {
 namespace {
 
 constexpr int kUntangleRounds = 8;
+
+// Wall and process CPU seconds (all threads) of the parts of an iteration (logged;
+// bench/deform_parts.py sums them).
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+struct PartTimer {
+  std::array<double, kNumParts> s{}, cpu{};
+  std::chrono::steady_clock::time_point t = std::chrono::steady_clock::now();
+  double c = process_cpu_seconds();
+  void lap(int part) {
+    const auto now = std::chrono::steady_clock::now();
+    const double cn = process_cpu_seconds();
+    s[part] += std::chrono::duration<double>(now - t).count();
+    cpu[part] += cn - c;
+    t = now;
+    c = cn;
+  }
+};
+
+std::string part_summary(const std::array<double, kNumParts>& s, const std::array<double, kNumParts>& cpu) {
+  std::string out;
+  for (int p = 0; p < kNumParts; ++p) {
+    char b[96];
+    std::snprintf(b, sizeof b, "%s%s %.2f/%.2f", p ? ", " : "", kPartNames[p], s[p], cpu[p]);
+    out += b;
+  }
+  return out;
+}
 
 double median(std::vector<double> x) {
   if (x.empty()) return 0;
@@ -83,26 +115,21 @@ std::vector<std::pair<int, int>> update_intersections(const std::vector<Eigen::V
 
 // Faces of a mesh keyed by their corners' positions (in order): a face that remeshing
 // did not touch keeps its key.
-struct FaceKey {
-  std::array<double, 9> x;
-  bool operator==(const FaceKey& o) const { return x == o.x; }
-};
-struct FaceKeyHash {
-  size_t operator()(const FaceKey& k) const {
-    size_t h = 1469598103934665603ull;
-    for (double d : k.x) {
-      std::uint64_t b;
-      std::memcpy(&b, &d, sizeof b);
-      h = (h ^ b) * 1099511628211ull;
-    }
-    return h;
-  }
-};
+using FaceKey = std::array<double, 9>;
 FaceKey face_key(const std::vector<Eigen::Vector3d>& V, const Eigen::Vector3i& t) {
   FaceKey k;
   for (int c = 0; c < 3; ++c)
-    for (int d = 0; d < 3; ++d) k.x[3 * c + d] = V[t[c]][d];
+    for (int d = 0; d < 3; ++d) k[3 * c + d] = V[t[c]][d];
   return k;
+}
+std::uint64_t key_hash(const FaceKey& k) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (double d : k) {
+    std::uint64_t b;
+    std::memcpy(&b, &d, sizeof b);
+    h = (h ^ b) * 1099511628211ull;
+  }
+  return h;
 }
 
 // Intersections after remeshing from those before it: pairs of two untouched faces are
@@ -112,18 +139,32 @@ std::vector<std::pair<int, int>> intersections_after_remesh(const std::vector<Ei
                                                             const std::vector<std::pair<int, int>>& pairs0,
                                                             const std::vector<Eigen::Vector3d>& V,
                                                             const std::vector<Eigen::Vector3i>& F) {
-  std::unordered_map<FaceKey, int, FaceKeyHash> old;
-  old.reserve(F0.size());
-  for (size_t f = 0; f < F0.size(); ++f) old.emplace(face_key(V0, F0[f]), static_cast<int>(f));
-  std::vector<int> to_new(F0.size(), -1);
-  std::vector<char> changed(F.size(), 1);
-  for (size_t f = 0; f < F.size(); ++f) {
-    const auto it = old.find(face_key(V, F[f]));
-    if (it != old.end() && to_new[it->second] < 0) {
-      to_new[it->second] = static_cast<int>(f);
+  // Old faces sorted by (key hash, index); each new face's match is the lowest old face
+  // with its key; in new-face order, an old face is taken by the first new face only.
+  const int nf0 = static_cast<int>(F0.size()), nf = static_cast<int>(F.size());
+  std::vector<std::pair<std::uint64_t, int>> old(nf0);
+#pragma omp parallel for schedule(static)
+  for (int f = 0; f < nf0; ++f) old[f] = {key_hash(face_key(V0, F0[f])), f};
+  std::sort(old.begin(), old.end());
+  std::vector<int> match(nf, -1);
+#pragma omp parallel for schedule(static)
+  for (int f = 0; f < nf; ++f) {
+    const FaceKey k = face_key(V, F[f]);
+    const std::uint64_t h = key_hash(k);
+    for (auto it = std::lower_bound(old.begin(), old.end(), std::make_pair(h, -1)); it != old.end() && it->first == h;
+         ++it)
+      if (face_key(V0, F0[it->second]) == k) {
+        match[f] = it->second;
+        break;
+      }
+  }
+  std::vector<int> to_new(nf0, -1);
+  std::vector<char> changed(nf, 1);
+  for (int f = 0; f < nf; ++f)
+    if (match[f] >= 0 && to_new[match[f]] < 0) {
+      to_new[match[f]] = f;
       changed[f] = 0;
     }
-  }
   std::vector<std::pair<int, int>> prev;
   for (const auto& p : pairs0) {
     const int a = to_new[p.first], b = to_new[p.second];
@@ -131,6 +172,70 @@ std::vector<std::pair<int, int>> intersections_after_remesh(const std::vector<Ei
   }
   std::sort(prev.begin(), prev.end());
   return update_intersections(V, F, prev, changed);
+}
+
+// Renumbers vertices along a Morton (Z-order) curve of their positions and sorts the
+// faces by their lowest new vertex (ties: old order): neighbours in the mesh become
+// neighbours in memory, and so do their pixels in the images and rasters (the texture
+// probes, the rasteriser and the intersection grid were bound by cache misses).
+void reorder_for_locality(RemeshMesh& m) {
+  const int nv = static_cast<int>(m.V.size()), nf = static_cast<int>(m.F.size());
+  if (nv == 0) return;
+  Eigen::Vector3d lo = m.V[0], hi = m.V[0];
+  for (const auto& x : m.V) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const double ext = std::max((hi - lo).maxCoeff(), 1e-300);
+  const auto spread = [](std::uint64_t x) {  // 21 bits -> every third bit
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffull;
+    x = (x | x << 16) & 0x1f0000ff0000ffull;
+    x = (x | x << 8) & 0x100f00f00f00f00full;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+    x = (x | x << 2) & 0x1249249249249249ull;
+    return x;
+  };
+  std::vector<std::pair<std::uint64_t, int>> key(nv);
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < nv; ++v) {
+    std::uint64_t c = 0;
+    for (int d = 0; d < 3; ++d) {
+      const double t = std::clamp((m.V[v][d] - lo[d]) / ext, 0.0, 1.0);
+      c |= spread(static_cast<std::uint64_t>(t * 2097151.0)) << d;
+    }
+    key[v] = {c, v};
+  }
+  std::sort(key.begin(), key.end());
+  std::vector<int> id(nv);
+  std::vector<Eigen::Vector3d> V(nv);
+  std::vector<double> fp(nv);
+  std::vector<std::uint8_t> settled(m.settled.empty() ? 0 : nv);
+  std::vector<float> drift(m.drift.empty() ? 0 : nv);
+  for (int k = 0; k < nv; ++k) {
+    const int v = key[k].second;
+    id[v] = k;
+    V[k] = m.V[v];
+    fp[k] = m.fp[v];
+    if (!settled.empty()) settled[k] = m.settled[v];
+    if (!drift.empty()) drift[k] = m.drift[v];
+  }
+  std::vector<std::pair<int, int>> fk(nf);
+  for (int f = 0; f < nf; ++f) {
+    const auto& t = m.F[f];
+    fk[f] = {std::min({id[t[0]], id[t[1]], id[t[2]]}), f};
+  }
+  std::sort(fk.begin(), fk.end());
+  std::vector<Eigen::Vector3i> F(nf);
+  for (int k = 0; k < nf; ++k) {
+    const auto& t = m.F[fk[k].second];
+    F[k] = Eigen::Vector3i(id[t[0]], id[t[1]], id[t[2]]);
+  }
+  m.V.swap(V);
+  m.F.swap(F);
+  m.fp.swap(fp);
+  m.settled.swap(settled);
+  m.drift.swap(drift);
 }
 
 // Removes self-intersections (made by remeshing, or present in the input) by umbrella
@@ -153,20 +258,21 @@ std::vector<std::pair<int, int>> untangle(std::vector<Eigen::Vector3d>& V, const
           for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) grown[topo.nbr[q]] = 1;
       mark.swap(grown);
     }
-    std::vector<Eigen::Vector3d> V1 = V;
+    // new positions of the marked vertices from the old ones, then applied
+    std::vector<std::pair<int, Eigen::Vector3d>> moved;
     for (int v = 0; v < nv; ++v) {
       if (!mark[v]) continue;
       const int s = topo.nbr_start[v], e = topo.nbr_start[v + 1];
       if (e == s) continue;
       Eigen::Vector3d m = Eigen::Vector3d::Zero();
       for (int q = s; q < e; ++q) m += V[topo.nbr[q]];
-      V1[v] = 0.5 * V[v] + 0.5 * m / (e - s);
+      moved.emplace_back(v, 0.5 * V[v] + 0.5 * m / (e - s));
     }
+    for (const auto& [v, x] : moved) V[v] = x;
     std::vector<char> changed(F.size(), 0);
     for (size_t f = 0; f < F.size(); ++f)
       changed[f] = mark[F[f][0]] || mark[F[f][1]] || mark[F[f][2]];
-    pairs = update_intersections(V1, F, pairs, changed);
-    V.swap(V1);
+    pairs = update_intersections(V, F, pairs, changed);
   }
   return pairs;
 }
@@ -195,6 +301,8 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
   M.F = start.F;
   M.fp = vertex_footprints(M.V, scene.cams, fallback_fp);
   M.settled.assign(M.V.size(), 0);
+  M.drift.assign(M.V.size(), 0.f);
+  reorder_for_locality(M);
 
   Result res;
   std::vector<std::pair<int, int>> current = self_intersections(M.V, M.F);  // of the current mesh
@@ -205,23 +313,29 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
 
   for (int it = 0; it < opt.iterations; ++it) {
     const auto t0 = std::chrono::steady_clock::now();
+    PartTimer pt;
     IterationStats st;
     st.iteration = it;
     const int nv = static_cast<int>(M.V.size());
     M.fp = vertex_footprints(M.V, scene.cams, fallback_fp);
+    pt.lap(kPartFootprints);
     const std::vector<Eigen::Vector3d> N = vertex_normals(M.V, M.F);
     const Topology topo = build_topology(M.F, nv);
+    pt.lap(kPartTopology);
     TriMesh tm;
     tm.V = M.V;
     tm.F = M.F;
     const std::vector<ViewRaster> rasters = rasterize_all(tm, scene);
     st.silhouette_iou = mean_iou(rasters, scene);
     if (it == 0) res.start_iou = st.silhouette_iou;
+    pt.lap(kPartRaster);
     const std::vector<std::uint8_t> vis = vertex_visibility(M.V, scene.cams, rasters, opt.visibility_tol_px);
+    pt.lap(kPartVisibility);
 
     const std::vector<Eigen::Vector3d> fs = smooth_force(M.V, topo, N, opt);
     std::vector<int> rim;
     const std::vector<Eigen::Vector3d> fsil = silhouette_force(M.V, N, M.fp, scene.cams, sd, rasters, vis, opt, rim);
+    pt.lap(kPartSmoothSil);
     std::vector<TextureProbe> probes;
     std::vector<Eigen::Vector3d> ftex;
     if (it >= opt.texture_start && opt.w_texture > 0) {
@@ -232,13 +346,18 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
       std::vector<std::uint8_t> active(nv, 1);
       if (!sweep)
         for (int v = 0; v < nv; ++v) active[v] = !M.settled[v];
+      else  // full sweeps skip settled vertices that have not moved since their last probe
+        for (int v = 0; v < nv; ++v) active[v] = !M.settled[v] || M.drift[v] >= opt.texture_settle_px;
       ftex = texture_force(M.V, N, M.fp, views, opt.occlusion ? vis : std::vector<std::uint8_t>{}, active, opt, popt,
                            probes);
       for (int v = 0; v < nv; ++v)
         if (probes[v].probed)
           M.settled[v] = !probes[v].applied || std::abs(probes[v].offset_px) < opt.texture_settle_px;
+      for (int v = 0; v < nv; ++v)
+        if (probes[v].probed) M.drift[v] = 0.f;
     }
 
+    pt.lap(kPartTexture);
     std::vector<Eigen::Vector3d> move(nv);
     for (int v = 0; v < nv; ++v) {
       Eigen::Vector3d d = fs[v] + opt.w_silhouette * fsil[v];
@@ -283,6 +402,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
       const double l = (V1[v] - M.V[v]).norm();
       sum_move += l;
       sum_px += l / M.fp[v];
+      M.drift[v] += static_cast<float>(l / M.fp[v]);
       max_px = std::max(max_px, l / M.fp[v]);
       st.reduced_vertices += reduced[v] != 0;
       st.rim_vertices += rim[v] > 0;
@@ -312,15 +432,24 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
     M.V.swap(V1);
     const std::vector<Eigen::Vector3d> V_moved = M.V;
     const std::vector<Eigen::Vector3i> F_moved = M.F;
+    pt.lap(kPartMove);
 
     // Remesh.
     M.fp = vertex_footprints(M.V, scene.cams, fallback_fp);
+    pt.lap(kPartFootprints);
     st.splits = split_long_edges(M, opt.max_edge_px);
     st.collapses = collapse_short_edges(M, opt.min_edge_px, opt.needle_ratio, opt.max_edge_px);
     st.flips = flip_edges(M, opt.flip_dihedral_deg);
     compact(M);
+    reorder_for_locality(M);
+    pt.lap(kPartRemesh);
     // Remeshing may make intersections (a flip or a collapse in a tight spot): undo them.
-    current = untangle(M.V, M.F, intersections_after_remesh(V_moved, F_moved, pairs, M.V, M.F), kUntangleRounds);
+    auto after = intersections_after_remesh(V_moved, F_moved, pairs, M.V, M.F);
+    pt.lap(kPartRemeshCheck);
+    current = untangle(M.V, M.F, std::move(after), kUntangleRounds);
+    pt.lap(kPartUntangle);
+    st.part_seconds = pt.s;
+    st.part_cpu_seconds = pt.cpu;
     st.intersections = static_cast<std::int64_t>(current.size());
     st.vertices = static_cast<std::int64_t>(M.V.size());
     st.faces = static_cast<std::int64_t>(M.F.size());
@@ -330,6 +459,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
          " px), rim ", st.rim_vertices, ", IoU ", st.silhouette_iou, ", ", st.vertices, " v ", st.faces, " f, +",
          st.splits, " -", st.collapses, " ~", st.flips, ", reduced ", st.reduced_vertices, ", intersections ",
          st.intersections, ", ", st.seconds, " s");
+    info("deform: iteration ", it, " seconds (wall/cpu): ", part_summary(st.part_seconds, st.part_cpu_seconds));
     res.iterations.push_back(st);
   }
 

@@ -8,6 +8,7 @@
 // sampled from each vertex's best visible view; statistics per iteration (schema
 // tetmvs.deform, schemas/deform.md).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -21,6 +22,23 @@
 #include "common/trimesh/trimesh.h"
 
 namespace tetmvs::deform {
+
+// Parts of an iteration whose wall time is measured (IterationStats::part_seconds).
+enum IterationPart {
+  kPartFootprints,
+  kPartTopology,
+  kPartRaster,
+  kPartVisibility,
+  kPartSmoothSil,
+  kPartTexture,
+  kPartMove,  // move + intersection checks and retries
+  kPartRemesh,
+  kPartRemeshCheck,
+  kPartUntangle,
+  kNumParts
+};
+inline constexpr const char* kPartNames[kNumParts] = {"footprints", "topology", "raster",    "visibility",   "smooth+sil",
+                                                      "texture",    "move+isect", "remesh", "remesh-isect", "untangle"};
 
 struct IterationStats {
   int iteration = 0;
@@ -38,6 +56,8 @@ struct IterationStats {
   std::int64_t reduced_vertices = 0;  // vertices whose step was reduced to avoid intersections
   std::int64_t intersections = 0;     // intersecting triangle pairs after the iteration
   double seconds = 0;
+  std::array<double, kNumParts> part_seconds{};      // wall seconds per IterationPart (logged, not in the stats file)
+  std::array<double, kNumParts> part_cpu_seconds{};  // process CPU seconds (all threads) per IterationPart
 };
 
 struct Result {

@@ -72,8 +72,14 @@ std::vector<double> vertex_footprints(const std::vector<Eigen::Vector3d>& V, con
 #pragma omp parallel for schedule(static)
   for (int v = 0; v < nv; ++v) {
     double best = std::numeric_limits<double>::infinity();
-    for (const auto& c : cams)
-      if (c.sees(V[v])) best = std::min(best, c.depth(V[v]) / c.focal());
+    for (const auto& c : cams) {
+      // c.sees(X) without computing the depth twice
+      const double d = c.depth(V[v]);
+      if (d <= 0) continue;
+      const Eigen::Vector2d p = c.project(V[v]);
+      if (p.x() >= 0.0 && p.y() >= 0.0 && p.x() <= c.width - 1 - 0.0 && p.y() <= c.height - 1 - 0.0)
+        best = std::min(best, d / c.focal());
+    }
     if (std::isfinite(best)) fp[v] = best;
   }
   return fp;
@@ -88,8 +94,9 @@ std::vector<std::uint8_t> vertex_visibility(const std::vector<Eigen::Vector3d>& 
     for (int i = 0; i < nc; ++i) {
       const Camera& c = cams[i];
       const double d = c.depth(V[v]);
-      if (!(d > 0) || !c.sees(V[v])) continue;
-      const Eigen::Vector2d p = c.project(V[v]);
+      if (!(d > 0)) continue;
+      const Eigen::Vector2d p = c.project(V[v]);  // c.sees(X), projecting once
+      if (!(p.x() >= 0.0 && p.y() >= 0.0 && p.x() <= c.width - 1 - 0.0 && p.y() <= c.height - 1 - 0.0)) continue;
       const int x = static_cast<int>(std::lround(p.x())), y = static_cast<int>(std::lround(p.y()));
       const float z = rasters[i].depth.at<float>(y, x);
       vis[static_cast<size_t>(v) * nc + i] = !(d > z + tol_px * d / c.focal());
@@ -210,12 +217,92 @@ bool sample_patch(const photo::View& view, const GreyView& g, const Eigen::Vecto
   for (const double si : {-c, c})
     for (const double sj : {-c, c})
       if (!g.inside(u0 + si * u1 + sj * u2, v0 + si * v1 + sj * v2)) return false;
+  // rows start in double, samples step in float (error ~1e-4 px at 640 px)
+  const float fu1 = static_cast<float>(u1), fv1 = static_cast<float>(v1);
   for (int j = 0; j < mu; ++j) {
-    const double uj = u0 + (j - c) * u2 - c * u1, vj = v0 + (j - c) * v2 - c * v1;
-    for (int i = 0; i < mu; ++i) out[j * mu + i] = g.at(uj + i * u1, vj + i * v1);
+    const float uj = static_cast<float>(u0 + (j - c) * u2 - c * u1);
+    const float vj = static_cast<float>(v0 + (j - c) * v2 - c * v1);
+    float* o = out + j * mu;
+    for (int i = 0; i < mu; ++i) {
+      const float u = uj + static_cast<float>(i) * fu1, v = vj + static_cast<float>(i) * fv1;
+      // (the corners are inside in double; float rounding could reach the last row/column)
+      const int x = std::min(static_cast<int>(u), g.w - 2), y = std::min(static_cast<int>(v), g.h - 2);
+      const float a = u - static_cast<float>(x), b = v - static_cast<float>(y);
+      const float* r0 = g.data + static_cast<size_t>(y) * g.stride + x;
+      const float* r1 = r0 + g.stride;
+      o[i] = (1 - b) * ((1 - a) * r0[0] + a * r0[1]) + b * ((1 - a) * r1[0] + a * r1[1]);
+    }
   }
   return true;
 }
+
+// photo::normalize_patch(_detrended) and ncc_normalized (ncc.h) with the sums in SIMD
+// lanes: the same formulas, the additions in another (fixed) order.
+struct PatchKernel {
+  int n = 0;
+  float min_std = 0, ramp = 0;
+  bool detrend = false;
+  std::vector<float> t1, t2;  // offsets of each sample along the two axes (i - c, j - c)
+  PatchKernel(int mu, bool detrend_, float min_std_) : n(mu * mu), min_std(min_std_), detrend(detrend_) {
+    const int c = mu / 2;
+    t1.resize(n);
+    t2.resize(n);
+    for (int j = 0; j < mu; ++j)
+      for (int i = 0; i < mu; ++i) {
+        t1[j * mu + i] = static_cast<float>(i - c);
+        t2[j * mu + i] = static_cast<float>(j - c);
+      }
+    ramp = photo::ramp_norm2(mu, mu);
+  }
+  // In place; false (and zeros) when the residual is constant.
+  bool normalize(float* x) const {
+    float mean = 0.f;
+#pragma omp simd reduction(+ : mean)
+    for (int i = 0; i < n; ++i) mean += x[i];
+    mean /= static_cast<float>(n);
+    float ss = 0.f;
+    if (detrend) {
+      const float* a = t1.data();
+      const float* b = t2.data();
+      float s1 = 0.f, s2 = 0.f;
+#pragma omp simd reduction(+ : s1, s2)
+      for (int i = 0; i < n; ++i) {
+        const float v = x[i] - mean;
+        x[i] = v;
+        s1 += v * a[i];
+        s2 += v * b[i];
+      }
+      const float g1 = s1 / ramp, g2 = s2 / ramp;
+#pragma omp simd reduction(+ : ss)
+      for (int i = 0; i < n; ++i) {
+        const float r = (x[i] - g1 * a[i]) - g2 * b[i];
+        x[i] = r;
+        ss += r * r;
+      }
+    } else {
+#pragma omp simd reduction(+ : ss)
+      for (int i = 0; i < n; ++i) {
+        const float v = x[i] - mean;
+        x[i] = v;
+        ss += v * v;
+      }
+    }
+    if (!(ss > static_cast<float>(n) * min_std * min_std) || ss <= 0.f) {
+      for (int i = 0; i < n; ++i) x[i] = 0.f;
+      return false;
+    }
+    const float inv = 1.f / std::sqrt(ss);
+#pragma omp simd
+    for (int i = 0; i < n; ++i) x[i] *= inv;
+    return true;
+  }
+  float ncc(const float* a, const float* b) const {
+    float s = 0.f;
+#pragma omp simd reduction(+ : s)
+    for (int i = 0; i < n; ++i) s += a[i] * b[i];
+    return std::clamp(s, -1.f, 1.f);
+  }
+};
 
 }  // namespace
 
@@ -237,7 +324,7 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
   const double cos_cone = std::cos(opt.texture_cone_deg * M_PI / 180.0);
   const double cos_bmin = std::cos(opt.texture_baseline_min_deg * M_PI / 180.0);
   const double cos_bmax = std::cos(opt.texture_baseline_max_deg * M_PI / 180.0);
-  const float min_std = static_cast<float>(popt.min_std);
+  const PatchKernel kernel(mu, popt.detrend, static_cast<float>(popt.min_std));
   // Coarse offsets every texture_coarse_px over -range..range; around the best, halving
   // steps down to texture_step_px (each level keeps the best of the peak and its two
   // neighbours); at the finest level a parabola through the peak and its neighbours.
@@ -284,12 +371,7 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
       const double spacing = views[ref].project_h(X).z() * views[ref].inv_focal;
       const Eigen::Vector3d a1 = photo::stable_perpendicular(n) * spacing;
       const Eigen::Vector3d a2 = n.cross(a1);
-      const auto normalize = [&](float* x) {
-        if (popt.detrend)
-          photo::normalize_patch_detrended(x, mu, mu, min_std, x);
-        else
-          photo::normalize_patch(x, ns, min_std, x);
-      };
+      const auto normalize = [&](float* x) { kernel.normalize(x); };
       // Score at offset t (pixels): mean NCC of the reference with its partners.
       const auto score_at = [&](double t) -> float {
         const Eigen::Vector3d Xt = X + (t * unit) * n;
@@ -302,7 +384,7 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
           float* p = buf.data() + static_cast<size_t>(q + 1) * ns;
           if (!sample_patch(views[sel[q]], grey[sel[q]], Xt, a1, a2, mu, p)) continue;
           normalize(p);
-          sum += photo::ncc_normalized(r, p, ns);
+          sum += kernel.ncc(r, p);
           ++cnt;
         }
         return cnt >= opt.texture_min_partners ? sum / static_cast<float>(cnt) : photo::kNoScore;

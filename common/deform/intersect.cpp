@@ -1,7 +1,10 @@
 #include "common/deform/intersect.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
+
+#include "common/error.h"
 
 namespace tetmvs::deform {
 
@@ -20,55 +23,6 @@ bool segment_crosses_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q
 }
 
 namespace {
-
-struct Box {
-  Eigen::Vector3d lo, hi;
-  bool overlaps(const Box& o) const {
-    return (lo.array() <= o.hi.array()).all() && (o.lo.array() <= hi.array()).all();
-  }
-};
-
-struct Tree {
-  struct Node {
-    Box box;
-    int left = -1, right = -1, start = 0, count = 0;
-  };
-  std::vector<Node> nodes;
-  std::vector<int> prims;
-  const std::vector<Box>* boxes = nullptr;
-
-  int build(int s, int e, std::vector<Eigen::Vector3d>& cen) {
-    Node n;
-    n.box = (*boxes)[prims[s]];
-    for (int i = s + 1; i < e; ++i) {
-      n.box.lo = n.box.lo.cwiseMin((*boxes)[prims[i]].lo);
-      n.box.hi = n.box.hi.cwiseMax((*boxes)[prims[i]].hi);
-    }
-    const int id = static_cast<int>(nodes.size());
-    nodes.push_back(n);
-    if (e - s <= 4) {
-      nodes[id].start = s;
-      nodes[id].count = e - s;
-      return id;
-    }
-    Eigen::Vector3d clo = cen[prims[s]], chi = clo;
-    for (int i = s + 1; i < e; ++i) {
-      clo = clo.cwiseMin(cen[prims[i]]);
-      chi = chi.cwiseMax(cen[prims[i]]);
-    }
-    int axis;
-    (chi - clo).maxCoeff(&axis);
-    const int mid = (s + e) / 2;
-    std::nth_element(prims.begin() + s, prims.begin() + mid, prims.begin() + e, [&](int x, int y) {
-      return cen[x][axis] < cen[y][axis] || (cen[x][axis] == cen[y][axis] && x < y);
-    });
-    const int l = build(s, mid, cen);
-    const int r = build(mid, e, cen);
-    nodes[id].left = l;
-    nodes[id].right = r;
-    return id;
-  }
-};
 
 int shared_count(const Eigen::Vector3i& t, const Eigen::Vector3i& u, int& ti, int& ui) {
   int n = 0;
@@ -102,70 +56,168 @@ bool triangles_cross(const std::vector<Eigen::Vector3d>& V, const Eigen::Vector3
 
 }  // namespace
 
+namespace {
+
+// Uniform grid over the boxes of a set of faces (flat boxes: lo xyz, hi xyz per face):
+// cells about as large as a face, each face listed in every cell its box overlaps.
+struct Grid {
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, inv = 1;
+  int n[3] = {1, 1, 1};
+  std::vector<int> start, items;
+
+  int coord(double x, int d) const {
+    const double t = std::floor((x - lo[d]) * inv);
+    return t < 0 ? 0 : (t >= n[d] ? n[d] - 1 : static_cast<int>(t));
+  }
+  void range(const double* b, int r[6]) const {
+    for (int d = 0; d < 3; ++d) {
+      r[d] = coord(b[d], d);
+      r[3 + d] = coord(b[3 + d], d);
+    }
+  }
+  size_t cell(int x, int y, int z) const { return (static_cast<size_t>(z) * n[1] + y) * n[0] + x; }
+  bool outside(const double* b) const {
+    return b[0] > hi[0] || b[1] > hi[1] || b[2] > hi[2] || b[3] < lo[0] || b[4] < lo[1] || b[5] < lo[2];
+  }
+
+  void build(const std::vector<double>& box, const std::vector<int>& faces) {
+    const int m = static_cast<int>(faces.size());
+    double ext = 0;
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = box[6 * static_cast<size_t>(faces[0]) + d];
+      hi[d] = box[6 * static_cast<size_t>(faces[0]) + 3 + d];
+    }
+    for (int f : faces) {
+      const double* x = &box[6 * static_cast<size_t>(f)];
+      double e = 0;
+      for (int d = 0; d < 3; ++d) {
+        lo[d] = std::min(lo[d], x[d]);
+        hi[d] = std::max(hi[d], x[3 + d]);
+        e = std::max(e, x[3 + d] - x[d]);
+      }
+      ext += e;
+    }
+    for (int d = 0; d < 3; ++d)
+      require(std::isfinite(lo[d]) && std::isfinite(hi[d]), "self_intersections: non-finite vertex coordinates");
+    double c = std::max(ext / m, 1e-300);
+    const long long max_cells = std::max<long long>(4LL * m, 1 << 12);
+    const auto cells_for = [&](double cs) {
+      long long total = 1;
+      for (int d = 0; d < 3; ++d) total *= std::max<long long>(1, static_cast<long long>((hi[d] - lo[d]) / cs) + 1);
+      return total;
+    };
+    while (cells_for(c) > max_cells) c *= 1.25;
+    inv = 1.0 / c;
+    for (int d = 0; d < 3; ++d) n[d] = static_cast<int>(std::max<long long>(1, static_cast<long long>((hi[d] - lo[d]) / c) + 1));
+    const size_t nc = static_cast<size_t>(n[0]) * n[1] * n[2];
+    start.assign(nc + 1, 0);
+    for (int f : faces) {
+      int r[6];
+      range(&box[6 * static_cast<size_t>(f)], r);
+      for (int z = r[2]; z <= r[5]; ++z)
+        for (int y = r[1]; y <= r[4]; ++y)
+          for (int x = r[0]; x <= r[3]; ++x) ++start[cell(x, y, z) + 1];
+    }
+    for (size_t q = 0; q < nc; ++q) start[q + 1] += start[q];
+    items.resize(start[nc]);
+    std::vector<int> pos(start.begin(), start.end() - 1);
+    for (int f : faces) {
+      int r[6];
+      range(&box[6 * static_cast<size_t>(f)], r);
+      for (int z = r[2]; z <= r[5]; ++z)
+        for (int y = r[1]; y <= r[4]; ++y)
+          for (int x = r[0]; x <= r[3]; ++x) items[pos[cell(x, y, z)]++] = f;
+    }
+  }
+
+  // Calls visit(g) for every listed face g whose box overlaps box b, once per g: in the
+  // cell holding the low corner of the two boxes' intersection.
+  template <class Visit>
+  void overlapping(const std::vector<double>& box, const double* b, Visit&& visit) const {
+    int r[6];
+    range(b, r);
+    for (int z = r[2]; z <= r[5]; ++z)
+      for (int y = r[1]; y <= r[4]; ++y)
+        for (int x = r[0]; x <= r[3]; ++x) {
+          const size_t c = cell(x, y, z);
+          for (int q = start[c]; q < start[c + 1]; ++q) {
+            const int g = items[q];
+            const double* bg = &box[6 * static_cast<size_t>(g)];
+            if (bg[0] > b[3] || b[0] > bg[3] || bg[1] > b[4] || b[1] > bg[4] || bg[2] > b[5] || b[2] > bg[5]) continue;
+            if (coord(std::max(b[0], bg[0]), 0) != x || coord(std::max(b[1], bg[1]), 1) != y ||
+                coord(std::max(b[2], bg[2]), 2) != z)
+              continue;
+            visit(g);
+          }
+        }
+  }
+};
+
+}  // namespace
+
 std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vector3d>& V,
                                                     const std::vector<Eigen::Vector3i>& F,
                                                     const std::vector<char>& only_faces) {
   const int nf = static_cast<int>(F.size());
   std::vector<std::pair<int, int>> out;
   if (nf < 2) return out;
-  std::vector<Box> boxes(nf);
-  std::vector<Eigen::Vector3d> cen(nf);
+  std::vector<double> box(6 * static_cast<size_t>(nf));
+#pragma omp parallel for schedule(static)
   for (int f = 0; f < nf; ++f) {
-    const auto& a = V[F[f][0]];
-    const auto& b = V[F[f][1]];
-    const auto& c = V[F[f][2]];
-    boxes[f].lo = a.cwiseMin(b).cwiseMin(c);
-    boxes[f].hi = a.cwiseMax(b).cwiseMax(c);
-    cen[f] = (a + b + c) / 3.0;
+    const Eigen::Vector3d& a = V[F[f][0]];
+    const Eigen::Vector3d& b = V[F[f][1]];
+    const Eigen::Vector3d& c = V[F[f][2]];
+    double* x = &box[6 * static_cast<size_t>(f)];
+    for (int d = 0; d < 3; ++d) {
+      x[d] = std::min({a[d], b[d], c[d]});
+      x[3 + d] = std::max({a[d], b[d], c[d]});
+    }
   }
-  Tree tree;
-  tree.boxes = &boxes;
-  tree.prims.resize(nf);
-  std::iota(tree.prims.begin(), tree.prims.end(), 0);
-  tree.nodes.reserve(2 * nf / 2 + 8);
-  tree.build(0, nf, cen);
   const bool filter = !only_faces.empty();
-  std::vector<std::vector<int>> hits(nf);
-  // Filtered: only the listed faces are queried, against every other face; a pair of two
-  // listed faces is kept from the query of its lower face.
   std::vector<int> query;
   if (filter) {
     for (int f = 0; f < nf; ++f)
       if (only_faces[f]) query.push_back(f);
+    if (query.empty()) return out;
   }
-  const int nq = filter ? static_cast<int>(query.size()) : nf;
-#pragma omp parallel for schedule(dynamic, 256)
-  for (int qi = 0; qi < nq; ++qi) {
-    const int f = filter ? query[qi] : qi;
-    int stack[128];
-    int sp = 0;
-    stack[sp++] = 0;
-    while (sp > 0) {
-      const auto& n = tree.nodes[stack[--sp]];
-      if (!n.box.overlaps(boxes[f])) continue;
-      if (n.left < 0) {
-        for (int i = n.start; i < n.start + n.count; ++i) {
-          const int g = tree.prims[i];
-          if (g == f) continue;
-          if (filter ? (only_faces[g] && g < f) : g < f) continue;
-          if (!boxes[g].overlaps(boxes[f])) continue;
-          if (triangles_cross(V, F[f], F[g])) hits[f].push_back(g);
-        }
-      } else {
-        stack[sp++] = n.left;
-        stack[sp++] = n.right;
-      }
-    }
-    std::sort(hits[f].begin(), hits[f].end());
+  // Results per fixed chunk of faces, concatenated in order and sorted: deterministic.
+  constexpr int kChunk = 2048;
+  const auto run_chunks = [&](int n, auto&& body) {
+    const int nchunks = (n + kChunk - 1) / kChunk;
+    std::vector<std::vector<std::pair<int, int>>> found(nchunks);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int ch = 0; ch < nchunks; ++ch)
+      for (int i = ch * kChunk; i < std::min(n, (ch + 1) * kChunk); ++i) body(i, found[ch]);
+    for (const auto& v : found) out.insert(out.end(), v.begin(), v.end());
+  };
+  Grid grid;
+  if (filter && static_cast<long long>(query.size()) * 8 < nf) {
+    // Few listed faces: a grid of those only, every face looked up in it. A pair of two
+    // listed faces is tested from its lower face.
+    grid.build(box, query);
+    run_chunks(nf, [&](int s, std::vector<std::pair<int, int>>& found) {
+      const double* bs = &box[6 * static_cast<size_t>(s)];
+      if (grid.outside(bs)) return;
+      grid.overlapping(box, bs, [&](int f) {
+        if (f == s || (only_faces[s] && s < f)) return;
+        if (triangles_cross(V, F[f], F[s])) found.emplace_back(std::min(f, s), std::max(f, s));
+      });
+    });
+  } else {
+    // A grid of every face; the listed faces (all when unfiltered) are looked up in it.
+    std::vector<int> all(nf);
+    std::iota(all.begin(), all.end(), 0);
+    grid.build(box, all);
+    const int nq = filter ? static_cast<int>(query.size()) : nf;
+    run_chunks(nq, [&](int qi, std::vector<std::pair<int, int>>& found) {
+      const int f = filter ? query[qi] : qi;
+      grid.overlapping(box, &box[6 * static_cast<size_t>(f)], [&](int g) {
+        if (g == f || (filter ? (only_faces[g] && g < f) : g < f)) return;
+        if (triangles_cross(V, F[f], F[g])) found.emplace_back(std::min(f, g), std::max(f, g));
+      });
+    });
   }
-  if (filter) {
-    for (int f = 0; f < nf; ++f)
-      for (int g : hits[f]) out.emplace_back(std::min(f, g), std::max(f, g));
-    std::sort(out.begin(), out.end());
-    return out;
-  }
-  for (int f = 0; f < nf; ++f)
-    for (int g : hits[f]) out.emplace_back(f, g);
+  std::sort(out.begin(), out.end());
   return out;
 }
 

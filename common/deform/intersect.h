@@ -3,7 +3,9 @@
 // overlap when coplanar); triangles sharing one vertex intersect when the edge opposite
 // the shared vertex of one crosses the other; others when any edge of one crosses the
 // interior of the other. Crossings are strict (touching at a point, e.g. the coincident
-// vertex copies of the cut's split sheets, does not count). Deterministic, OpenMP.
+// vertex copies of the cut's split sheets, does not count). Candidate pairs come from a
+// uniform grid of face boxes (cells about one face wide), built over all faces, or over
+// the flagged faces only when they are few. Deterministic, OpenMP.
 #pragma once
 #include <Eigen/Dense>
 #include <utility>

@@ -40,7 +40,7 @@ struct Options {
   // step control and remeshing
   double max_move_px = 1.0;       // largest move of a vertex per iteration (pixels)
   double max_edge_px = 2.0;       // split edges longer than this in their finest view
-  double min_edge_px = 0.5;       // collapse edges shorter than this
+  double min_edge_px = 0.9;       // collapse edges shorter than this (below max_edge_px / 2)
   double needle_ratio = 0.2;      // collapse the shortest edge of triangles with shortest/longest below this
   double flip_dihedral_deg = 30;  // Delaunay flips only between triangles within this angle of coplanar
   int intersection_retries = 4;   // halve the step of the vertices of new intersections this often, then revert them

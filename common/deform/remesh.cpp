@@ -29,18 +29,8 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
   const Topology topo = build_topology(m.F, static_cast<int>(m.V.size()));
   const int ne = topo.num_edges(), nf = static_cast<int>(m.F.size());
   std::vector<char> mark(ne, 0);
+#pragma omp parallel for schedule(static)
   for (int e = 0; e < ne; ++e) mark[e] = edge_px(m, topo.edge_v[e][0], topo.edge_v[e][1]) > max_px;
-  for (bool changed = true; changed;) {
-    changed = false;
-    for (int f = 0; f < nf; ++f) {
-      const auto& fe = topo.face_e[f];
-      const int c = mark[fe[0]] + mark[fe[1]] + mark[fe[2]];
-      if (c == 2) {
-        for (int k = 0; k < 3; ++k) mark[fe[k]] = 1;
-        changed = true;
-      }
-    }
-  }
   std::vector<int> mid(ne, -1);
   std::int64_t count = 0;
   for (int e = 0; e < ne; ++e)
@@ -50,11 +40,12 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
       m.V.push_back(0.5 * (m.V[a] + m.V[b]));
       m.fp.push_back(0.5 * (m.fp[a] + m.fp[b]));
       if (!m.settled.empty()) m.settled.push_back(0);
+      if (!m.drift.empty()) m.drift.push_back(0.f);
       ++count;
     }
   if (count == 0) return 0;
   std::vector<Eigen::Vector3i> F;
-  F.reserve(m.F.size() + 3 * count);
+  F.reserve(m.F.size() + 3 * static_cast<size_t>(count));
   for (int f = 0; f < nf; ++f) {
     const auto& t = m.F[f];
     const auto& fe = topo.face_e[f];
@@ -67,6 +58,21 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
       const int a = t[k], b = t[(k + 1) % 3], d = t[(k + 2) % 3], mm = mid[fe[k]];
       F.emplace_back(a, mm, d);
       F.emplace_back(mm, b, d);
+    } else if (c == 2) {
+      // Green 1:3: k = the unmarked edge (t[k], t[k+1]); the corner between the two
+      // marked edges is cut off, the quad left is split by its shorter diagonal.
+      int k = 0;
+      while (mark[fe[k]]) ++k;
+      const int a = t[k], b = t[(k + 1) % 3], d = t[(k + 2) % 3];
+      const int mbd = mid[fe[(k + 1) % 3]], mda = mid[fe[(k + 2) % 3]];
+      F.emplace_back(mda, mbd, d);
+      if ((m.V[a] - m.V[mbd]).squaredNorm() <= (m.V[b] - m.V[mda]).squaredNorm()) {
+        F.emplace_back(a, b, mbd);
+        F.emplace_back(a, mbd, mda);
+      } else {
+        F.emplace_back(a, b, mda);
+        F.emplace_back(b, mbd, mda);
+      }
     } else {
       const int m0 = mid[fe[0]], m1 = mid[fe[1]], m2 = mid[fe[2]];
       F.emplace_back(t[0], m0, m2);
@@ -89,13 +95,15 @@ void compact(RemeshMesh& m) {
   std::vector<Eigen::Vector3d> V;
   std::vector<double> fp;
   std::vector<std::uint8_t> settled;
-  const bool has_settled = !m.settled.empty();
+  const bool has_settled = !m.settled.empty(), has_drift = !m.drift.empty();
+  std::vector<float> drift;
   for (size_t v = 0; v < m.V.size(); ++v)
     if (id[v] == 0) {
       id[v] = static_cast<int>(V.size());
       V.push_back(m.V[v]);
       fp.push_back(m.fp[v]);
       if (has_settled) settled.push_back(m.settled[v]);
+      if (has_drift) drift.push_back(m.drift[v]);
     }
   for (auto& t : F)
     for (int k = 0; k < 3; ++k) t[k] = id[t[k]];
@@ -103,6 +111,7 @@ void compact(RemeshMesh& m) {
   m.F.swap(F);
   m.fp.swap(fp);
   m.settled.swap(settled);
+  m.drift.swap(drift);
 }
 
 std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ratio, double max_px) {
@@ -177,6 +186,7 @@ std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ra
     m.V[a] = p;
     m.fp[a] = fpp;
     if (!m.settled.empty()) m.settled[a] = 0;
+    if (!m.drift.empty()) m.drift[a] = 0.f;
     remap[b] = a;
     face_dead[f1] = face_dead[f2] = 1;
     for (int end : {a, b}) {

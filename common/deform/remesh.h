@@ -20,15 +20,20 @@ struct RemeshMesh {
   // (splits) and merged ones (collapses) get 0. deform marks vertices whose texture
   // force has settled.
   std::vector<std::uint8_t> settled;
+  // Optional per-vertex value (empty: none) carried the same way; new and merged vertices
+  // get 0. deform accumulates each vertex's moves (pixels) since its last texture probe.
+  std::vector<float> drift;
 };
 
 // Length of edge (a, b) in pixels.
 double edge_px(const RemeshMesh& m, int a, int b);
 
-// Red-green split: edges longer than max_px are marked; faces with two marked edges get
-// the third marked too (repeated until stable); a face with one marked edge is split 1:2
-// (midpoint to the opposite corner), a face with three 1:4. New vertices are edge
-// midpoints (footprint = mean of the ends). Returns the number of edges split.
+// Red-green split: edges longer than max_px are split at their midpoints; a face with one
+// split edge becomes 2 triangles (midpoint to the opposite corner), with two 3 (the corner
+// between them cut off, the rest split by the shorter diagonal), with three 4. Only long
+// edges are split (no red closure: it spread 1:4 splits over edges of 1-2 px and doubled
+// the mesh on dinoRing). New vertices: footprint = mean of the ends. Returns the number of
+// edges split.
 std::int64_t split_long_edges(RemeshMesh& m, double max_px);
 
 // Collapses edges shorter than min_px, and the shortest edge of triangles whose

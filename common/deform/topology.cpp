@@ -23,16 +23,29 @@ Topology build_topology(const std::vector<Eigen::Vector3i>& F, int nv) {
   t.num_vertices = nv;
   const int nf = static_cast<int>(F.size());
   struct H { int a, b, f, k; };
-  std::vector<H> h;
-  h.reserve(3 * static_cast<size_t>(nf));
-  for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = F[f][k], b = F[f][(k + 1) % 3];
-      h.push_back({std::min(a, b), std::max(a, b), f, k});
-    }
-  std::sort(h.begin(), h.end(), [](const H& x, const H& y) {
-    return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : (x.f != y.f ? x.f < y.f : x.k < y.k));
-  });
+  // Half-edges in (a, b, f, k) order: a counting sort by the lower vertex a (filled in
+  // (f, k) order), then a stable insertion sort by b within each (small) bucket.
+  std::vector<H> h(3 * static_cast<size_t>(nf));
+  {
+    std::vector<int> start(static_cast<size_t>(nv) + 1, 0);
+    for (int f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) start[std::min(F[f][k], F[f][(k + 1) % 3]) + 1]++;
+    for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
+    std::vector<int> pos(start.begin(), start.end() - 1);
+    for (int f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int a = F[f][k], b = F[f][(k + 1) % 3];
+        h[pos[std::min(a, b)]++] = {std::min(a, b), std::max(a, b), f, k};
+      }
+#pragma omp parallel for schedule(static, 4096)
+    for (int v = 0; v < nv; ++v)
+      for (int i = start[v] + 1; i < start[v + 1]; ++i) {
+        const H x = h[i];
+        int j = i - 1;
+        for (; j >= start[v] && h[j].b > x.b; --j) h[j + 1] = h[j];
+        h[j + 1] = x;
+      }
+  }
   t.face_e.assign(nf, {-1, -1, -1});
   for (size_t i = 0; i < h.size();) {
     size_t j = i;

@@ -1,6 +1,7 @@
 // Adjacency of a closed triangle mesh for deform (paper section 3.3): unique edges with
 // their two faces, each face's three edges, and each vertex's neighbours and faces
-// (compressed rows, sorted). Rebuilt after every remeshing pass; O(F log F).
+// (compressed rows, sorted). Rebuilt after every remeshing pass; O(F) (counting sort by
+// the lower vertex, then small per-vertex sorts).
 #pragma once
 #include <Eigen/Dense>
 #include <array>

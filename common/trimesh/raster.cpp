@@ -38,9 +38,13 @@ Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) 
   r.depth = cv::Mat(H, W, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
   r.tri = cv::Mat(H, W, CV_32S, cv::Scalar(-1));
   const std::size_t nv = m.V.size();
-  std::vector<double> z(nv);
-  std::vector<std::int64_t> fx(nv), fy(nv);
-  std::vector<double> pu(nv), pv(nv);  // unsnapped sample-grid coordinates (for depth)
+  // Per vertex, packed (one cache line per triangle corner): depth, its inverse, the
+  // unsnapped sample-grid coordinates (for depth) and the snapped ones.
+  struct Proj {
+    double z, iz, pu, pv;
+    std::int64_t fx, fy;
+  };
+  std::vector<Proj> pr(nv);
   const Eigen::Matrix3d KR = cam.K * cam.R;
   const Eigen::Vector3d Kt = cam.K * cam.t;
   const double s = r.ss;
@@ -48,25 +52,27 @@ Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) 
   const double lim = 1e7;
   for (std::size_t i = 0; i < nv; ++i) {
     const Eigen::Vector3d x = KR * m.V[i] + Kt;
-    z[i] = x.z();
+    Proj& p = pr[i];
+    p.z = x.z();
     if (!(x.z() > opt.znear)) continue;
+    p.iz = 1.0 / x.z();
     double u = (x.x() / x.z() + 0.5) * s - 0.5, v = (x.y() / x.z() + 0.5) * s - 0.5;
     u = std::clamp(u, -lim, lim);
     v = std::clamp(v, -lim, lim);
-    pu[i] = u;
-    pv[i] = v;
-    fx[i] = std::llround(u * kSub);
-    fy[i] = std::llround(v * kSub);
+    p.pu = u;
+    p.pv = v;
+    p.fx = std::llround(u * kSub);
+    p.fy = std::llround(v * kSub);
   }
   float* D = r.depth.ptr<float>();
   int* T = r.tri.ptr<int>();
   for (std::size_t f = 0; f < m.F.size(); ++f) {
     int i0 = m.F[f][0], i1 = m.F[f][1], i2 = m.F[f][2];
-    if (!(z[i0] > opt.znear && z[i1] > opt.znear && z[i2] > opt.znear)) {
+    if (!(pr[i0].z > opt.znear && pr[i1].z > opt.znear && pr[i2].z > opt.znear)) {
       ++r.skipped_near;
       continue;
     }
-    std::int64_t area = edge(fx[i0], fy[i0], fx[i1], fy[i1], fx[i2], fy[i2]);
+    std::int64_t area = edge(pr[i0].fx, pr[i0].fy, pr[i1].fx, pr[i1].fy, pr[i2].fx, pr[i2].fy);
     if (area == 0) continue;
     // With y down, a triangle counter-clockwise seen from its front has negative area here.
     if (opt.cull_back && area > 0) continue;
@@ -74,7 +80,8 @@ Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) 
       std::swap(i1, i2);
       area = -area;
     }
-    const std::int64_t x0 = fx[i0], y0 = fy[i0], x1 = fx[i1], y1 = fy[i1], x2 = fx[i2], y2 = fy[i2];
+    const Proj &p0 = pr[i0], &p1 = pr[i1], &p2 = pr[i2];
+    const std::int64_t x0 = p0.fx, y0 = p0.fy, x1 = p1.fx, y1 = p1.fy, x2 = p2.fx, y2 = p2.fy;
     const std::int64_t minx = std::min({x0, x1, x2}), maxx = std::max({x0, x1, x2});
     const std::int64_t miny = std::min({y0, y1, y2}), maxy = std::max({y0, y1, y2});
     // Sample i sits at i * kSub.
@@ -86,16 +93,21 @@ Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) 
     const std::int64_t b0 = owns(x1, y1, x2, y2) ? 0 : 1;  // edge opposite vertex 0
     const std::int64_t b1 = owns(x2, y2, x0, y0) ? 0 : 1;
     const std::int64_t b2 = owns(x0, y0, x1, y1) ? 0 : 1;
-    // 1/z is affine in image coordinates: 1/z = A u + B v + C0, from the unsnapped vertices.
-    const double iz0 = 1.0 / z[i0], iz1 = 1.0 / z[i1], iz2 = 1.0 / z[i2];
-    const double e1u = pu[i1] - pu[i0], e1v = pv[i1] - pv[i0], e2u = pu[i2] - pu[i0], e2v = pv[i2] - pv[i0];
-    const double det = e1u * e2v - e1v * e2u;
-    double A = 0, B = 0;
-    if (det != 0) {
-      A = ((iz1 - iz0) * e2v - (iz2 - iz0) * e1v) / det;
-      B = ((iz2 - iz0) * e1u - (iz1 - iz0) * e2u) / det;
-    }
-    const double C0 = iz0 - A * pu[i0] - B * pv[i0];
+    // 1/z is affine in image coordinates: 1/z = A u + B v + C0, from the unsnapped vertices;
+    // set up at the first covered sample (most small triangles cover none).
+    bool plane = false;
+    double A = 0, B = 0, C0 = 0;
+    const auto setup_plane = [&] {
+      const double iz0 = p0.iz, iz1 = p1.iz, iz2 = p2.iz;
+      const double e1u = p1.pu - p0.pu, e1v = p1.pv - p0.pv, e2u = p2.pu - p0.pu, e2v = p2.pv - p0.pv;
+      const double det = e1u * e2v - e1v * e2u;
+      if (det != 0) {
+        A = ((iz1 - iz0) * e2v - (iz2 - iz0) * e1v) / det;
+        B = ((iz2 - iz0) * e1u - (iz1 - iz0) * e2u) / det;
+      }
+      C0 = iz0 - A * p0.pu - B * p0.pv;
+      plane = true;
+    };
     for (std::int64_t j = ja; j <= jb; ++j) {
       const std::int64_t py = j * kSub;
       for (std::int64_t i = ia; i <= ib; ++i) {
@@ -104,6 +116,7 @@ Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) 
         const std::int64_t w1 = edge(x2, y2, x0, y0, px, py);
         const std::int64_t w2 = edge(x0, y0, x1, y1, px, py);
         if (w0 - b0 < 0 || w1 - b1 < 0 || w2 - b2 < 0) continue;
+        if (!plane) setup_plane();
         const double iz = A * static_cast<double>(i) + B * static_cast<double>(j) + C0;
         const float d = static_cast<float>(1.0 / iz);
         const std::size_t k = static_cast<std::size_t>(j) * W + i;

@@ -2,6 +2,7 @@
 // self-intersection test, the signed distance of silhouettes, the smoothness force.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/deform/forces.h"
@@ -100,14 +101,26 @@ TEST(DeformRemesh, SplitPatternsOneEdgeAndAllThree) {
   EXPECT_NEAR(area, 50.0, 1e-12);  // orientation kept (all positive), area kept
 }
 
-TEST(DeformRemesh, TwoLongEdgesBecomeRed) {
-  // Only two edges are long: the closure marks the third, so the triangle splits 1:4.
+TEST(DeformRemesh, TwoLongEdgesSplitInThree) {
+  // Only two edges are long (10 and 9.49; the third is 3.16): only they are split (no red
+  // closure), the corner between them is cut off and the quad left is split by its
+  // shorter diagonal (midpoint (5, 0) to (9, 3): 5.0, not (10, 0) to (4.5, 1.5): 5.70).
   RemeshMesh r;
   r.V = {{0, 0, 0}, {10, 0, 0}, {9, 3, 0}};
   r.F = {{0, 1, 2}};
   r.fp = {1, 1, 1};
-  EXPECT_EQ(split_long_edges(r, 5.0), 3);
-  EXPECT_EQ(r.F.size(), 4u);
+  EXPECT_EQ(split_long_edges(r, 5.0), 2);
+  ASSERT_EQ(r.F.size(), 3u);
+  ASSERT_EQ(r.V.size(), 5u);
+  double area = 0, longest = 0;
+  for (const auto& t : r.F) {
+    const double a = 0.5 * (r.V[t[1]] - r.V[t[0]]).cross(r.V[t[2]] - r.V[t[0]]).z();
+    EXPECT_GT(a, 0);  // orientation kept
+    area += a;
+    for (int k = 0; k < 3; ++k) longest = std::max(longest, (r.V[t[k]] - r.V[t[(k + 1) % 3]]).norm());
+  }
+  EXPECT_NEAR(area, 15.0, 1e-12);
+  EXPECT_NEAR(longest, 5.0, 1e-12);  // the chosen diagonal; every edge is now <= 5
 }
 
 TEST(DeformRemesh, CollapseRemovesShortEdgesAndKeepsTopology) {
@@ -189,15 +202,20 @@ TEST(DeformIntersect, CleanMeshesHaveNoneAndAPushedVertexMakesSome) {
   EXPECT_GT(pairs.size(), 0u);
   for (const auto& p : pairs) EXPECT_LT(p.first, p.second);
   // filtered: exactly the full result's pairs that touch a flagged face (deform rechecks
-  // only the faces it changed and keeps the rest)
-  for (int stride : {1, 2, 7}) {
+  // only the faces it changed and keeps the rest); strides 13 and 29 flag fewer than an
+  // eighth of the faces: the grid then holds the flagged faces only and every face is
+  // looked up in it
+  std::size_t some = 0;
+  for (int stride : {1, 2, 7, 13, 29}) {
     std::vector<char> only(s.nf(), 0);
     for (size_t f = 0; f < s.nf(); f += stride) only[f] = 1;
     std::vector<std::pair<int, int>> expect;
     for (const auto& p : pairs)
       if (only[p.first] || only[p.second]) expect.push_back(p);
     EXPECT_EQ(self_intersections(s.V, s.F, only), expect) << stride;
+    if (stride > 8) some += expect.size();
   }
+  EXPECT_GT(some, 0u);  // the sparse strides did meet intersecting pairs
   std::vector<char> none(s.nf(), 0);
   EXPECT_TRUE(self_intersections(s.V, s.F, none).empty());
 }
@@ -255,6 +273,7 @@ TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   const Options o = Options::from_params(Params::defaults());
   EXPECT_EQ(o.iterations, Options{}.iterations);
   EXPECT_DOUBLE_EQ(o.max_edge_px, 2.0);
+  EXPECT_DOUBLE_EQ(o.min_edge_px, Options{}.min_edge_px);  // params/defaults.json and options.h agree
   Options bad = o;
   bad.min_edge_px = 1.5;
   EXPECT_THROW(bad.check(), Error);

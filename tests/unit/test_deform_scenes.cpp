@@ -95,9 +95,13 @@ TEST(DeformScene, TexturedSphereFromBccFacets) {
   EXPECT_GT(o.res.final_iou, 0.99);
   ASSERT_EQ(o.res.iterations.size(), 8u);
   const auto& last = o.res.iterations.back();
-  // iteration 5 is a full sweep (texture_start 2, texture_recheck 3): most vertices see a
-  // clear peak; the last iteration probes only the vertices that have not settled
-  EXPECT_EQ(o.res.iterations[5].texture_probed, 1.0);
+  // iteration 5 is a sweep (texture_start 2, texture_recheck 3): besides the unsettled
+  // vertices it probes the settled ones that moved texture_settle_px since their last
+  // probe (more than the iterations beside it, not all: 75 % measured); most see a clear
+  // peak; the last iteration probes only the vertices that have not settled
+  EXPECT_GT(o.res.iterations[5].texture_probed, o.res.iterations[4].texture_probed);
+  EXPECT_GT(o.res.iterations[5].texture_probed, o.res.iterations[6].texture_probed);
+  EXPECT_LT(o.res.iterations[5].texture_probed, 1.0);
   EXPECT_GT(o.res.iterations[5].texture_applied, 0.5);
   EXPECT_GT(o.res.iterations[5].mean_texture_score, 0.9);
   EXPECT_LT(last.texture_probed, 0.5);
