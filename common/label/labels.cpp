@@ -152,6 +152,46 @@ DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell) {
   return d;
 }
 
+// Points of q that lie in free space seen by other points: in at least `views_needed` views
+// the point is in front of q's visible side (the `near` map, by `margin`). A point on the
+// surface is never in front of what a camera sees there; a false match floating in the air
+// (in a cup's cavity, "consistent" in views that really see the outer wall) is, in the views
+// that see past it. The point's own splat is only in the views it is consistent in, where it
+// can never be in front of itself.
+QPoints drop_points_in_free_space(const Scene& s, const QPoints& q, const DepthMaps& d, double margin, int views_needed,
+                                  std::int64_t* dropped) {
+  const std::int64_t P = q.size();
+  std::vector<std::uint8_t> keep(P, 1);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::int64_t p = 0; p < P; ++p) {
+    const Eigen::Vector3d X = q.pos(p);
+    int free_space = 0;
+    for (int v = 0; v < s.size() && free_space < views_needed; ++v) {
+      const Camera& cam = s.cams[v];
+      const double z = cam.depth(X);
+      if (z <= 0) continue;
+      const Eigen::Vector2d px = cam.project(X);
+      const int u = static_cast<int>(std::lround(px.x())), w = static_cast<int>(std::lround(px.y()));
+      if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
+      const float dn = d.near[v].at<float>(w, u);
+      free_space += dn != 0 && z < dn - margin;
+    }
+    keep[p] = free_space < views_needed;
+  }
+  QPoints out;
+  std::int64_t n = 0;
+  for (std::int64_t p = 0; p < P; ++p) {
+    if (!keep[p]) {
+      ++n;
+      continue;
+    }
+    const std::vector<std::int32_t> cams(q.cams.begin() + q.cam_offsets[p], q.cams.begin() + q.cam_offsets[p + 1]);
+    out.add(q.pos(p), q.nrm(p), q.score[p], cams, q.face[p]);
+  }
+  if (dropped) *dropped = n;
+  return out;
+}
+
 double percentile(std::vector<std::int32_t> v, double pct) {
   if (v.empty()) return 0;
   const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(std::floor(pct / 100.0 * (v.size() - 1) + 0.5)));
@@ -206,11 +246,18 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       q_core.add(q_in.pos(p), q_in.nrm(p), q_in.score[p], cams, q_in.face[p]);
     }
   }
-  const QPoints& q = o.hull_core_px > 0 ? q_core : q_in;
+  const QPoints& q_prior = o.hull_core_px > 0 ? q_core : q_in;
   r.label.assign(C, 0);
   r.reason.assign(C, kNone);
   const int finest = m.max_cell_level();
   const double cell = tet::red_edge_length(m.lat, finest);
+  // Free space outranks occlusion for Q itself: points lying in the free space that other
+  // points prove (in front of what label.free_views views see) are false matches.
+  QPoints q_free;
+  if (o.drop_free_points)
+    q_free = drop_points_in_free_space(s, q_prior, q_depth_maps(s, q_prior, cell), o.depth_margin * cell, o.free_views,
+                                       &r.q_in_free_space);
+  const QPoints& q = o.drop_free_points ? q_free : q_prior;
   // 1. the box boundary
   for (std::int32_t f = 0; f < m.num_faces(); ++f)
     if (m.face_on_boundary(f)) {
@@ -248,6 +295,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   r.beyond_views.assign(C, 0);
   r.hidden_views.assign(C, 0);
   r.seen_views.assign(C, 0);
+  r.hidden_depth.assign(C, -1.0f);
   const auto u8 = [](int n) { return static_cast<std::uint8_t>(std::min(n, 255)); };
   // Every free cell gets soft evidence (for the cut's optional visibility term); the
   // inactive candidates also get hard labels.
@@ -256,6 +304,8 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     if (r.label[c] != 0) continue;
     const Eigen::Vector3d X = m.cell_centroid(c);
     int sandwiched = 0, free_space = 0, beyond = 0, seen = 0, outside_views = 0;
+    double shallowest = -1;
+    std::vector<double> gaps;  // depth behind Q's visible side, per hiding view
     for (int v = 0; v < s.size(); ++v) {
       const Camera& cam = s.cams[v];
       const double z = cam.depth(X);
@@ -269,13 +319,24 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       free_space += is_free;
       beyond += is_beyond;
       outside_views += is_free || is_beyond;
-      if (df != 0 && db != 0 && z > df + margin && z < db - margin) ++sandwiched;
+      if (df != 0 && db != 0 && z > df + margin && z < db - margin) {
+        ++sandwiched;
+        gaps.push_back(z - df);
+      }
       ++seen;
     }
     r.free_views[c] = u8(free_space);
     r.beyond_views[c] = u8(beyond);
     r.hidden_views[c] = u8(sandwiched);
     r.seen_views[c] = u8(seen);
+    // the depth reached in min_occluding_views of the hiding views (robust to a stray point of Q)
+    if (static_cast<int>(gaps.size()) >= o.min_occluding_views) {
+      std::nth_element(gaps.begin(), gaps.begin() + (o.min_occluding_views - 1), gaps.end());
+      shallowest = gaps[o.min_occluding_views - 1];
+    } else {
+      shallowest = -1;
+    }
+    r.hidden_depth[c] = shallowest < 0 ? -1.0f : static_cast<float>(shallowest / cell);
     if (seen > 0) {
       const double out = std::min(1.0, static_cast<double>(outside_views) / o.free_views);
       r.outside_evidence[c] = static_cast<float>(out);
@@ -297,9 +358,12 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     // under the hull's surface rests on the very points the prior distrusts (measured on
     // dinoRing: single-cell specks outside the body).
     if (o.hull_core_px <= 0 && in_hull && votes <= r.low_votes && free_space == 0 && beyond == 0 &&
-        sandwiched >= o.min_occluding_views)
-      decided[c] = 1;
-    else if (votes > r.high_votes && votes >= o.min_exterior_votes && outside_views >= o.free_views)
+        sandwiched >= o.min_occluding_views) {
+      if (o.interior_depth <= 0 || shallowest <= o.interior_depth * cell)
+        decided[c] = 1;
+      else
+        decided[c] = 3;  // hidden everywhere, but too deep behind the seen surface: left free
+    } else if (votes > r.high_votes && votes >= o.min_exterior_votes && free_space >= o.free_views)
       decided[c] = -1;
   }
   // 4. the optional hull-core prior (Options::hull_core_px)
@@ -344,6 +408,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     }
   }
   for (std::int32_t c = 0; c < C; ++c) {
+    r.too_deep += decided[c] == 3;
     r.interior += r.label[c] == 1;
     r.exterior += r.label[c] == -1;
     r.boundary += r.reason[c] == kBoundary;

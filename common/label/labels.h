@@ -6,25 +6,32 @@
 //            projected cell (a disc around it) lies inside the image and outside the
 //            silhouette (parts outside an image never carve);
 //            inactive cells whose visibility votes exceed the upper percentile, that are
-//            seen as free space (in front of Q by a margin) in at least two views and lie
-//            between Q's near and far sides in none.
+//            seen as free space (in front of Q by a margin) in at least `free_views` views.
 //  interior  inactive cells inside the hull whose votes are at most the lower percentile
 //            AND that lie between Q's near and far sides: in at least `min_occluding_views`
 //            views the cell is behind the points Q visible in that view and in front of the
 //            points of Q facing away from it (the far side, seen by other cameras); in no view
-//            is it in front of the visible points (free space) or beyond the far side.
+//            is it in front of the visible points (free space) or beyond the far side;
+//            and in min_occluding_views of the hiding views it is at most interior_depth
+//            finest cells behind the visible points (a shell under the seen surface).
 //            The free-space condition keeps unreachable cavities (a cup's inside, which no
 //            ray crosses) from becoming interior: some camera sees their air in front of the
 //            cavity walls' points. The far-side condition keeps unseen space behind or below
 //            the object (which ring cameras never see) from becoming interior.
 // Free space outranks occlusion: a camera that sees past a cell proves it empty, while a
 // cell hidden behind Q may be matter or an unseen cavity. A candidate seen as free space
-// (or beyond the far side) in at least `free_views` views, with votes above the upper
-// percentile, is exterior even if other views hide it (the part of a cup's cavity that
-// cameras see over the rim); the soft evidence follows the same rule (below). Cavity
-// regions no camera sees into are indistinguishable from matter in every image: they
-// stay interior-or-free by the hidden rule, and the cut closes them with a floor at the
-// edge of the seen free space.
+// in at least `free_views` views, with votes above the upper percentile, is exterior even if
+// other views hide it (the part of a cup's cavity that cameras see over the rim); the soft
+// evidence also counts views where the cell is beyond Q's far side (below). "Beyond the far
+// side" is not enough for a hard exterior label: where the far side's exit from the object is
+// not in Q (a torus's second arm behind the hole), cells inside look beyond it (measured on
+// the CI torus: 5 exterior cells inside the object, 0 with free space only, cut unchanged).
+// Cavity regions no camera sees into are indistinguishable from matter in every image: the
+// interior depth limit leaves them free, and the cut closes them with a floor at the edge of
+// the seen free space.
+// Free space outranks occlusion for Q too (Options::drop_free_points): before votes and
+// depth maps, points of Q lying in front of what free_views other views see there are
+// dropped as false matches floating in the air.
 // Votes: every point of Q casts a ray to each camera it is photo-consistent in, starting
 // `vote_offset` cell sizes in front of the point; every cell the ray crosses gets a vote.
 // "Inactive" cells are the cells coarser than the finest level (away from the surface).
@@ -56,6 +63,22 @@ struct Options {
   double vote_offset = 1.0;     // rays start this many finest cell sizes in front of a point
   double depth_margin = 2.0;    // occlusion / free-space margin, in finest cell sizes
   int free_views = 3;           // free space seen in this many views is sure (see below)
+  // Interior by "hidden behind Q" also needs Q's visible side close in front: in at least
+  // min_occluding_views views the cell's centre lies at most this many finest cell sizes
+  // behind the visible points (<= 0: no limit, the rule of before). It counts finest cells
+  // but must stay below world-sized walls: 8 suits LEVELS=3 on the project's scenes (the
+  // synthetic cup's wall is 9 cells there, 4.6 at LEVELS=2, where 4 is needed). The part of a cavity that no camera sees
+  // into (a cup's inside below what the ring sees over the rim), and the space under an
+  // object that cameras above never see, are hidden behind Q in every view exactly like
+  // matter: nothing in the images tells them apart. What tells them apart from the inside of
+  // a wall is depth: in every view they lie behind the whole wall (and more), while matter
+  // lies just behind the surface in the views that face it. So interior labels are only
+  // given in a shell under the seen surface, thinner than the walls of the cavities it
+  // must not claim; deeper cells are left to the cut (with their soft inside evidence).
+  double interior_depth = 8;
+  // Drop points of Q that lie in free space (in front of what other points show) in at
+  // least free_views views, before votes and depth maps: false matches floating in the air.
+  bool drop_free_points = true;
   // Hull-core prior (0 = off): a cell, active or not, whose whole projection lies at least
   // this many pixels inside the silhouette in every view with a silhouette that it
   // projects into (at least min_occluding_views of them) is interior, whatever Q says;
@@ -81,10 +104,16 @@ struct Result {
   // visible side of Q by the margin), beyond Q's far side, between the two (hidden), and
   // the views where it projects into the image at all.
   std::vector<std::uint8_t> free_views, beyond_views, hidden_views, seen_views;
+  // Per free cell, the depth (finest cell sizes) of its centre behind Q's visible side, the
+  // smallest reached in min_occluding_views of the views hiding it (-1: fewer views hide it).
+  // Interior needs it at most Options::interior_depth.
+  std::vector<float> hidden_depth;
   double low_votes = 0, high_votes = 0;  // the percentile values
   std::int64_t interior = 0, exterior = 0, hull_exterior = 0, boundary = 0, voted_out = 0, hull_core = 0;
   std::int64_t rays = 0;
   std::int64_t q_dropped = 0;  // points of Q inside the hull core (prior on), not used
+  std::int64_t q_in_free_space = 0;  // points of Q dropped by drop_free_points
+  std::int64_t too_deep = 0;   // cells that passed the hidden rule but lie deeper than interior_depth
 };
 
 // Per cell: 1 when the cell is surely outside the visual hull (see top).

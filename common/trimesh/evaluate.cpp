@@ -140,7 +140,7 @@ EvalResult evaluate(const TriMesh& rec, const TriMesh& gt, const std::vector<Cam
   std::vector<double> gd(ng, std::numeric_limits<double>::infinity());
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int64_t i = 0; i < ng; ++i)
-    if (nvis[i] >= opt.min_views) gd[i] = rbvh.closest(gs.P[i], tmax * 1.000001 + 1e-300).dist();
+    gd[i] = rbvh.closest(gs.P[i], tmax * 1.000001 + 1e-300).dist();  // unseen samples too (within_all)
 
   // --- accuracy: reconstruction samples -> ground truth ---
   SurfaceSamples rs;
@@ -171,9 +171,11 @@ EvalResult evaluate(const TriMesh& rec, const TriMesh& gt, const std::vector<Cam
   auto fill = [&](RegionResult& rr, auto&& gt_in, auto&& rec_in) {
     rr.completeness.within.assign(opt.thresholds.size(), 0.0);
     std::vector<std::int64_t> hit(opt.thresholds.size(), 0);
+    std::int64_t hit_all = 0;
     for (std::int64_t i = 0; i < ng; ++i) {
       if (!gt_in(i)) continue;
       rr.completeness.gt_samples++;
+      hit_all += gd[i] <= opt.thresholds[0];
       if (nvis[i] < opt.min_views) continue;
       rr.completeness.visible_samples++;
       for (std::size_t k = 0; k < opt.thresholds.size(); ++k) hit[k] += gd[i] <= opt.thresholds[k];
@@ -181,6 +183,8 @@ EvalResult evaluate(const TriMesh& rec, const TriMesh& gt, const std::vector<Cam
     for (std::size_t k = 0; k < opt.thresholds.size(); ++k)
       rr.completeness.within[k] =
           rr.completeness.visible_samples > 0 ? static_cast<double>(hit[k]) / rr.completeness.visible_samples : 0.0;
+    rr.completeness.within_all =
+        rr.completeness.gt_samples > 0 ? static_cast<double>(hit_all) / rr.completeness.gt_samples : 0.0;
     std::vector<double> d;
     for (std::int64_t i = 0; i < nr; ++i)
       if (rec_in(i)) d.push_back(rd[i]);
@@ -217,6 +221,13 @@ nlohmann::json region_json(const RegionResult& r, const EvalOptions& o) {
   c["visible_samples"] = r.completeness.visible_samples;
   if (r.completeness.visible_samples > 0) c["value"] = r.completeness.within[0];
   else c["value"] = nullptr;
+  if (r.completeness.gt_samples > 0) {
+    c["value_all"] = r.completeness.within_all;
+    c["visible_share"] = static_cast<double>(r.completeness.visible_samples) / r.completeness.gt_samples;
+  } else {
+    c["value_all"] = nullptr;
+    c["visible_share"] = nullptr;
+  }
   nlohmann::json by = nlohmann::json::array();
   for (std::size_t k = 0; k < o.thresholds.size(); ++k)
     by.push_back({{"threshold", o.thresholds[k]},

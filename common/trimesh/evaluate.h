@@ -47,6 +47,10 @@ struct CompletenessStats {
   std::int64_t gt_samples = 0;       // all ground-truth samples of the region
   std::int64_t visible_samples = 0;  // those seen by >= min_views cameras (the denominator)
   std::vector<double> within;        // per threshold: share of visible samples within it
+  // Headline threshold: share of ALL samples of the region within it (unseen ones count as
+  // missed). For a region the cameras cannot see whole (a cup's cavity seen by a ring), the
+  // ceiling of this is visible_samples / gt_samples whatever the method.
+  double within_all = 0;
 };
 
 struct RegionResult {

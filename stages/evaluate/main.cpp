@@ -129,7 +129,11 @@ int main(int argc, char** argv) {
     if (r.all.accuracy.samples > 0) s << r.all.accuracy.at_fraction; else s << "none";
     s << " completeness=" << 100 * r.all.completeness.within[0] << "%";
     for (const auto& rr : r.regions)
-      if (rr.completeness.visible_samples > 0) s << " " << rr.name << "=" << 100 * rr.completeness.within[0] << "%";
+      if (rr.completeness.visible_samples > 0) {
+        s << " " << rr.name << "=" << 100 * rr.completeness.within[0] << "%";
+        if (rr.completeness.visible_samples < rr.completeness.gt_samples)  // part unseen: also over all of it
+          s << " (all " << 100 * rr.completeness.within_all << "%, seen " << 100.0 * rr.completeness.visible_samples / rr.completeness.gt_samples << "%)";
+      }
     ctx.summary = s.str();
   });
 }

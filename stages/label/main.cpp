@@ -16,13 +16,13 @@
 
 using namespace tetmvs;
 
-constexpr double kLabelBytesPerCell = 32, kLabelBytesPerPixel = 16;
+constexpr double kLabelBytesPerCell = 36, kLabelBytesPerPixel = 16;
 
 int main(int argc, char** argv) {
   StageCli cli("label",
                "Labels the cells of the final mesh: exterior (box boundary, outside the visual "
-               "hull, many visibility votes), interior (few votes and hidden behind Q in every "
-               "view), or free for the cut to decide.");
+               "hull, many votes and seen as free space), interior (few votes, hidden behind Q in every "
+               "view and close behind its visible side), or free for the cut to decide.");
   std::string scene_file, mesh_file, scores_file, out, slice;
   cli.app().add_option("--scene", scene_file, "scene.h5")->required();
   cli.app().add_option("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)")->required();
@@ -54,6 +54,8 @@ int main(int argc, char** argv) {
     o.depth_margin = ctx.params.d("label.depth_margin");
     o.free_views = ctx.params.i("label.free_views");
     o.hull_core_px = ctx.params.d("label.hull_core_px");
+    o.interior_depth = ctx.params.d("label.interior_depth");
+    o.drop_free_points = ctx.params.b("label.drop_free_points");
     info("label: ", mesh.num_cells(), " cells, ", q.size(), " points, ", scene.num_silhouettes(), " silhouettes");
     const label::Result r = label::label_cells(mesh, scene, q, o);
     require(r.interior > 0, scores_file, ": no cell could be labelled interior (too few points Q?); "
@@ -69,6 +71,7 @@ int main(int argc, char** argv) {
     f.write("/cells/beyond_views", r.beyond_views);
     f.write("/cells/hidden_views", r.hidden_views);
     f.write("/cells/seen_views", r.seen_views);
+    f.write("/cells/hidden_depth", r.hidden_depth);
     f.set_attr("/", "low_votes", r.low_votes);
     f.set_attr("/", "high_votes", r.high_votes);
     f.set_attr("/", "interior", r.interior);
@@ -78,6 +81,8 @@ int main(int argc, char** argv) {
     f.set_attr("/", "voted_out", r.voted_out);
     f.set_attr("/", "hull_core", r.hull_core);
     f.set_attr("/", "q_dropped", r.q_dropped);
+    f.set_attr("/", "too_deep", r.too_deep);
+    f.set_attr("/", "q_in_free_space", r.q_in_free_space);
     f.set_attr("/", "rays", r.rays);
     f.commit();
     if (!slice.empty()) {
@@ -91,7 +96,7 @@ int main(int argc, char** argv) {
     std::ostringstream os;
     os << r.interior << " interior, " << r.exterior << " exterior (" << r.boundary << " boundary, "
        << r.hull_exterior << " hull, " << r.voted_out << " votes), " << r.hull_core << " interior by the hull core (" << r.q_dropped << " points of Q in it dropped), "
-       << r.rays << " rays, vote percentiles "
+       << r.q_in_free_space << " points of Q in free space dropped, " << r.too_deep << " hidden but too deep (left free), " << r.rays << " rays, vote percentiles "
        << r.low_votes << " / " << r.high_votes;
     ctx.summary = os.str();
   });

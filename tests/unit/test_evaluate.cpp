@@ -114,6 +114,14 @@ TEST(Evaluate, ConvexLidOfTheCupMissesTheCavity) {
   EXPECT_LT(r.all.accuracy.p50, 1e-4);
   const EvalResult self = evaluate(cup, cup, s.cams, opts());
   EXPECT_EQ(region(self, "cavity")->completeness.within[0], 1.0);
+  // Over all of the cavity (unseen samples too): the ground truth itself is complete, the lid
+  // is not; the JSON also gives the seen share (the ceiling of value_all for any method).
+  EXPECT_EQ(region(self, "cavity")->completeness.within_all, 1.0);
+  EXPECT_LT(cav->completeness.within_all, 0.2);
+  const nlohmann::json j = to_json(r);
+  EXPECT_NEAR(j["regions"][1]["completeness"]["visible_share"].get<double>(),
+              double(cav->completeness.visible_samples) / cav->completeness.gt_samples, 1e-12);
+  EXPECT_EQ(j["regions"][1]["completeness"]["value_all"].get<double>(), cav->completeness.within_all);
 }
 
 TEST(Evaluate, ProtrusionShavedOff) {
