@@ -282,7 +282,7 @@ TEST(SilFix, HornConstraintsAreCorrectAndRecutRecoversTheProtrusion) {
   EXPECT_GT(r2.mean_iou, r.mean_iou);
 }
 
-TEST(SilFix, RimBandOptionsStayCorrectAndCloseAShrunkenRim) {
+TEST(SilFix, RimBandOptionsAddManyInteriorCellsNoneWrong) {
   // S1 hugging an inner core, as the hull-core prior makes it on untextured objects: the
   // cells inside the ground truth minus their outer layer, so S1's silhouettes miss a band
   // all along the rim. The rim-band options (segments joined over small gaps, the interval
