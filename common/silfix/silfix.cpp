@@ -344,9 +344,11 @@ Result fix_silhouettes(const tet::TetMesh& m, const Scene& s, const TriMesh& s1,
               else ++w.st.weak_peaks;
               continue;
             }
-            // The interval's middle cell, or else the cell nearest to it (ties: nearer the
-            // camera) that lies wholly inside the interval, whose four corners project
-            // inside every silhouette.
+            // The interval's middle cell if its four corners project inside every
+            // silhouette; else, with search_interval, the nearest hit to it (ties: nearer
+            // the camera) that overlaps the interval, is inside the hull and passes that
+            // corner test. (The corner test also rejects a middle cell that fell in a gap
+            // joined by max_gap_cells.)
             auto corners_in = [&](std::int32_t c) {
               Eigen::Vector3d X[4];
               cell_corners(m, c, X);
