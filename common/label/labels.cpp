@@ -82,6 +82,17 @@ std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s
 
 namespace {
 
+// X's depth z in cam and the pixel (u, w) nearest to its projection; false when X is not in
+// front of the camera or the pixel lies outside the image.
+bool nearest_pixel(const Camera& cam, const Eigen::Vector3d& X, double& z, int& u, int& w) {
+  z = cam.depth(X);
+  if (z <= 0) return false;
+  const Eigen::Vector2d p = cam.project(X);
+  u = static_cast<int>(std::lround(p.x()));
+  w = static_cast<int>(std::lround(p.y()));
+  return u >= 0 && w >= 0 && u < cam.width && w < cam.height;
+}
+
 // Per-view depth maps of Q, splatted over a disc of about one finest cell: `front` holds
 // the smallest depth of the points photo-consistent in that view (the visible surface),
 // `back` the largest depth of the points facing away from the view (the far side of the
@@ -167,12 +178,9 @@ QPoints drop_points_in_free_space(const Scene& s, const QPoints& q, const DepthM
     const Eigen::Vector3d X = q.pos(p);
     int free_space = 0;
     for (int v = 0; v < s.size() && free_space < views_needed; ++v) {
-      const Camera& cam = s.cams[v];
-      const double z = cam.depth(X);
-      if (z <= 0) continue;
-      const Eigen::Vector2d px = cam.project(X);
-      const int u = static_cast<int>(std::lround(px.x())), w = static_cast<int>(std::lround(px.y()));
-      if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
+      double z;
+      int u, w;
+      if (!nearest_pixel(s.cams[v], X, z, u, w)) continue;
       const float dn = d.near[v].at<float>(w, u);
       free_space += dn != 0 && z < dn - margin;
     }
@@ -215,10 +223,9 @@ std::vector<cv::Mat> silhouette_distances(const Scene& s) {
 bool in_hull_core(const Scene& s, const std::vector<cv::Mat>& dist, const Eigen::Vector3d& X, double margin) {
   int views = 0;
   for (int v = 0; v < s.size(); ++v) {
-    if (dist[v].empty() || s.cams[v].depth(X) <= 0) continue;
-    const Eigen::Vector2d p = s.cams[v].project(X);
-    const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
-    if (u < 0 || w < 0 || u >= s.cams[v].width || w >= s.cams[v].height) continue;
+    double z;
+    int u, w;
+    if (dist[v].empty() || !nearest_pixel(s.cams[v], X, z, u, w)) continue;
     if (dist[v].at<float>(w, u) < margin) return false;
     ++views;
   }
@@ -307,12 +314,9 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     double shallowest = -1;
     std::vector<double> gaps;  // depth behind Q's visible side, per hiding view
     for (int v = 0; v < s.size(); ++v) {
-      const Camera& cam = s.cams[v];
-      const double z = cam.depth(X);
-      if (z <= 0) continue;
-      const Eigen::Vector2d p = cam.project(X);
-      const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
-      if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
+      double z;
+      int u, w;
+      if (!nearest_pixel(s.cams[v], X, z, u, w)) continue;
       const float df = depth.front[v].at<float>(w, u), db = depth.back[v].at<float>(w, u);
       const float dn = depth.near[v].at<float>(w, u), dx = depth.far[v].at<float>(w, u);
       const bool is_free = dn != 0 && z < dn - margin, is_beyond = dx != 0 && z > dx + margin;

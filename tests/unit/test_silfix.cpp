@@ -21,30 +21,11 @@
 #include "common/tetmesh/refine.h"
 #include "common/trimesh/bvh.h"
 #include "common/trimesh/raster.h"
+#include "tests/unit/gt_inside.h"
 
 using namespace tetmvs;
 
 namespace {
-
-// Inside test by ray parity, majority of three directions.
-bool inside_mesh(const MeshBVH& bvh, const Eigen::Vector3d& p) {
-  static const Eigen::Vector3d dirs[3] = {Eigen::Vector3d(0.5773, 0.3111, 0.7549).normalized(),
-                                          Eigen::Vector3d(-0.2718, 0.8813, -0.3871).normalized(),
-                                          Eigen::Vector3d(0.6931, -0.5209, -0.4983).normalized()};
-  int votes = 0;
-  for (const auto& d : dirs) {
-    int n = 0;
-    double t = 0;
-    for (;;) {
-      const RayHit h = bvh.raycast(p, d, t);
-      if (h.face < 0) break;
-      ++n;
-      t = h.t + 1e-9;
-    }
-    votes += n % 2;
-  }
-  return votes >= 2;
-}
 
 // The constructed horn case (built once: a few seconds at most).
 struct HornCase {
@@ -84,7 +65,7 @@ struct HornCase {
     protrusion.assign(C, 0);
     for (std::int32_t c = 0; c < C; ++c) {
       const Eigen::Vector3d x = mesh.cell_centroid(c);
-      in_gt[c] = inside_mesh(bvh, x);
+      in_gt[c] = test::inside_mesh(bvh, x);
       protrusion[c] = in_gt[c] && x.z() > 1.0;
       num_protrusion += protrusion[c];
     }
