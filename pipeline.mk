@@ -58,7 +58,13 @@ PROGRAMS := $(notdir $(wildcard $(ROOT)/stages/*))
 has = $(filter $(1),$(PROGRAMS))
 
 # --- parameters: make variable -> key -> stages (generated from params/defaults.json) --
+# params.mk is made by the build; the rule below builds first on a fresh clone, and make then
+# re-reads this file with it (without it, LAMBDA=... on the first run would be ignored).
 -include $(BUILD_DIR)/params.mk
+ifneq ($(MAKECMDGOALS),clean)
+$(BUILD_DIR)/params.mk: $(ROOT)/params/defaults.json $(ROOT)/cmake/embed_json.cmake
+	@BUILD_DIR=$(BUILD_DIR) bash $(ROOT)/scripts/build.sh && touch $@
+endif
 # --set arguments of stage $(1) from the variables given on the command line
 set_args = $(strip $(foreach v,$(MAKE_PARAMS),$(if $(and $(filter $(1),$(PARAM_$(v)_STAGES)),$(filter command line,$(origin $(v)))),--set $(PARAM_$(v)_KEY)=$($(v)))))
 STAMPS := $(RUN_DIR)/.params
@@ -73,7 +79,10 @@ empty :=
 space := $(empty) $(empty)
 stage_keys = $(foreach v,$(MAKE_PARAMS),$(if $(filter $(1),$(PARAM_$(v)_STAGES)),$(subst .,\.,$(PARAM_$(v)_KEY))))
 params_for = $(if $(and $(PARAMS),$(call stage_keys,$(1))),$(shell tr -d '\n' < '$(PARAMS)' | grep -oE '"($(subst $(space),|,$(strip $(call stage_keys,$(1)))))" *: *("[^"]*"|[^,}]*)' | tr -d ' ' | LC_ALL=C sort | tr '\n' ' '))
-stamp_text = $(call set_args,$(1)) $(STAGE_FLAGS) $(subst ','"'"',$(call params_for,$(1)))
+# The stage's built-in defaults count too: a changed default in params/defaults.json reruns
+# the stages that use it (and what follows), as a changed command-line value does.
+stage_defaults = $(foreach v,$(MAKE_PARAMS),$(if $(filter $(1),$(PARAM_$(v)_STAGES)),$(PARAM_$(v)_KEY)=$(PARAM_$(v)_DEFAULT)))
+stamp_text = $(call set_args,$(1)) $(STAGE_FLAGS) $(subst ','"'"',$(call params_for,$(1)) defaults: $(call stage_defaults,$(1)))
 # A dry run (make -n) must not touch the run: it compares against a copy of the stamps.
 # (MAKEFLAGS's first word holds the single-letter flags; without any it is pipeline.mk's own
 # --no-builtin-rules, whose n is not a dry run.)

@@ -114,10 +114,10 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         pfile, rdir = os.path.join(tmp, "p.json"), os.path.join(tmp, "run")
 
-        def stamps(text):
+        def stamps(text, extra=()):
             with open(pfile, "w") as f:
                 f.write(text)
-            tiny_run.make(BIN, SRC, ["-n", "ingest"], extra=[f"PARAMS={pfile}"], run_dir=rdir)
+            tiny_run.make(BIN, SRC, ["-n", "ingest"], extra=[f"PARAMS={pfile}", *extra], run_dir=rdir)
             d = os.path.join(rdir, ".params-dry")
             return {n: open(os.path.join(d, n)).read() for n in os.listdir(d)}
         a = stamps('{"_comment": "a", "label.low_percentile": 10, "photo.T": 0.8}')
@@ -125,6 +125,18 @@ def main():
         changed = sorted(n for n in a if a[n] != b[n])
         expect(changed == ["label.args"], f"a label entry of PARAMS changes only label's stamp, changed {changed}")
         expect('"photo.T":0.8' in a["photoconsist.args"], "photoconsist's stamp holds its PARAMS entry")
+        # A changed built-in default (params/defaults.json, through the build's params.mk) changes
+        # the stamp of the stages that use it, and only theirs: an old run folder is not reused.
+        fake = os.path.join(tmp, "build")
+        os.makedirs(fake)
+        mk = open(os.path.join(tiny_run.paths(BIN)["build"], "params.mk")).read()
+        key = "PARAM_DEFORM_FLIP_DIHEDRAL_DEG_DEFAULT := "
+        expect(key in mk, "params.mk holds deform.flip_dihedral_deg's default")
+        with open(os.path.join(fake, "params.mk"), "w") as f:   # newer than defaults.json: not rebuilt
+            f.write(re.sub(re.escape(key) + r"\S+", key + "12.5", mk))
+        c = stamps('{"_comment": "b",\n "label.low_percentile": 12, "photo.T": 0.8}', extra=[f"BUILD_DIR={fake}"])
+        changed = sorted(n for n in b if b[n] != c[n])
+        expect(changed == ["deform.args"], f"a changed deform default changes only deform's stamp, changed {changed}")
     CHECKS.finish()
 
 
