@@ -200,6 +200,74 @@ QPoints drop_points_in_free_space(const Scene& s, const QPoints& q, const DepthM
   return out;
 }
 
+// Per view, the per-pixel median depth of the splats (radius about `cell`) of the points of
+// q photo-consistent in it; 0 where fewer than 3 splats cover the pixel.
+std::vector<cv::Mat> median_depth_maps(const Scene& s, const QPoints& q, double cell) {
+  const std::int64_t P = q.size();
+  std::vector<cv::Mat> out(s.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int v = 0; v < s.size(); ++v) {
+    const Camera& cam = s.cams[v];
+    std::vector<std::pair<std::int32_t, float>> splat;  // (pixel, depth)
+    for (std::int64_t p = 0; p < P; ++p) {
+      bool consistent = false;
+      for (std::int64_t k = q.cam_offsets[p]; k < q.cam_offsets[p + 1] && !consistent; ++k) consistent = q.cams[k] == v;
+      double z;
+      int u0, w0;
+      if (!consistent || !nearest_pixel(cam, q.pos(p), z, u0, w0)) continue;
+      const int r = std::max(1, static_cast<int>(std::lround(cell * cam.focal() / z)));
+      for (int w = std::max(0, w0 - r); w <= std::min(cam.height - 1, w0 + r); ++w)
+        for (int u = std::max(0, u0 - r); u <= std::min(cam.width - 1, u0 + r); ++u)
+          if ((u - u0) * (u - u0) + (w - w0) * (w - w0) <= r * r) splat.emplace_back(w * cam.width + u, static_cast<float>(z));
+    }
+    std::sort(splat.begin(), splat.end());
+    cv::Mat med = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+    for (std::size_t i = 0; i < splat.size();) {
+      std::size_t j = i;
+      while (j < splat.size() && splat[j].first == splat[i].first) ++j;
+      if (j - i >= 3) med.at<float>(splat[i].first / cam.width, splat[i].first % cam.width) = splat[i + (j - i - 1) / 2].second;
+      i = j;
+    }
+    out[v] = med;
+  }
+  return out;
+}
+
+// Points of q in front of the median depth of Q by `margin` in at least `views_needed`
+// views (Options::median_free_views); no test where a view has no median. Where false
+// matches crowd in front of the surface (near occluding contours, without silhouettes), the
+// window minimum of drop_points_in_free_space is one of them; the median is still the
+// surface as long as most points there lie on it.
+std::vector<std::uint8_t> in_front_of_median(const Scene& s, const QPoints& q, double cell, double margin,
+                                             int views_needed) {
+  const std::int64_t P = q.size();
+  const auto med = median_depth_maps(s, q, cell);
+  std::vector<std::uint8_t> drop(P, 0);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::int64_t p = 0; p < P; ++p) {
+    int count = 0;
+    for (int v = 0; v < s.size() && count < views_needed; ++v) {
+      double z;
+      int u, w;
+      if (!nearest_pixel(s.cams[v], q.pos(p), z, u, w)) continue;
+      const float m = med[v].at<float>(w, u);
+      count += m != 0 && z < m - margin;
+    }
+    drop[p] = count >= views_needed;
+  }
+  return drop;
+}
+
+QPoints keep_points(const QPoints& q, const std::vector<std::uint8_t>& drop) {
+  QPoints out;
+  for (std::int64_t p = 0; p < q.size(); ++p) {
+    if (drop[p]) continue;
+    const std::vector<std::int32_t> cams(q.cams.begin() + q.cam_offsets[p], q.cams.begin() + q.cam_offsets[p + 1]);
+    out.add(q.pos(p), q.nrm(p), q.score[p], cams, q.face[p]);
+  }
+  return out;
+}
+
 double percentile(std::vector<std::int32_t> v, double pct) {
   if (v.empty()) return 0;
   const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(std::floor(pct / 100.0 * (v.size() - 1) + 0.5)));
@@ -233,6 +301,74 @@ bool in_hull_core(const Scene& s, const std::vector<cv::Mat>& dist, const Eigen:
 }
 }  // namespace
 
+std::vector<cv::Mat> q_silhouettes(const Scene& s, const QPoints& q, double cell, double close_px, double margin_px,
+                                   int min_points) {
+  require(cell > 0 && close_px >= 0 && margin_px >= 0, "label: q_silhouettes needs cell > 0, close_px >= 0, margin_px >= 0");
+  std::vector<cv::Mat> out(s.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int v = 0; v < s.size(); ++v) {
+    if (s.has_silhouette(v)) continue;
+    const Camera& cam = s.cams[v];
+    cv::Mat m = cv::Mat::zeros(cam.height, cam.width, CV_8U);
+    int n = 0;
+    for (std::int64_t p = 0; p < q.size(); ++p) {
+      bool consistent = false;
+      for (std::int64_t k = q.cam_offsets[p]; k < q.cam_offsets[p + 1] && !consistent; ++k) consistent = q.cams[k] == v;
+      double z;
+      int u, w;
+      if (!consistent || !nearest_pixel(cam, q.pos(p), z, u, w)) continue;
+      const int r = std::max(1, static_cast<int>(std::lround(cell * cam.focal() / z)));
+      cv::circle(m, cv::Point(u, w), r, cv::Scalar(255), cv::FILLED);
+      ++n;
+    }
+    if (n < min_points) continue;  // too few points to outline the object: no estimate
+    const int c = static_cast<int>(std::lround(close_px));
+    if (c > 0)
+      cv::morphologyEx(m, m, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * c + 1, 2 * c + 1)),
+                       cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    // fill holes: background is what the image border reaches through unmarked pixels
+    cv::Mat pad;
+    cv::copyMakeBorder(m, pad, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    cv::floodFill(pad, cv::Point(0, 0), cv::Scalar(128));
+    m = pad(cv::Rect(1, 1, cam.width, cam.height)) != 128;
+    const int g = static_cast<int>(std::lround(margin_px));
+    if (g > 0) cv::dilate(m, m, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * g + 1, 2 * g + 1)));
+    out[v] = m;
+  }
+  return out;
+}
+
+std::vector<std::uint8_t> hull_core_cells(const tet::TetMesh& m, const Scene& s, const std::vector<cv::Mat>& dist,
+                                          const std::vector<std::int8_t>& label, double core_px, int min_views) {
+  const std::int32_t C = m.num_cells();
+  std::vector<std::uint8_t> core(C, 0);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int32_t c = 0; c < C; ++c) {
+    if (label[c] != 0) continue;  // box boundary or outside the hull
+    const Eigen::Vector3d X = m.cell_centroid(c);
+    int deep = 0;
+    bool ok = true;
+    for (int v = 0; v < s.size() && ok; ++v) {
+      if (dist[v].empty()) continue;
+      const Camera& cam = s.cams[v];
+      if (cam.depth(X) <= 0) continue;
+      const Eigen::Vector2d p = cam.project(X);
+      const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
+      if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
+      // projected radius of the cell around its centre, in pixels
+      double rad = 0;
+      for (int k = 0; k < 4; ++k) {
+        const Eigen::Vector3d V = m.vertex(m.cell_v[c][k]);
+        rad = cam.depth(V) > 0 ? std::max(rad, (cam.project(V) - p).norm()) : 1e30;
+      }
+      ok = dist[v].at<float>(w, u) >= rad + 1.0 + core_px;  // +1: pixel rounding
+      ++deep;
+    }
+    core[c] = ok && deep >= min_views;
+  }
+  return core;
+}
+
 Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, const Options& o) {
   const std::int32_t C = m.num_cells();
   Result r;
@@ -253,11 +389,58 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       q_core.add(q_in.pos(p), q_in.nrm(p), q_in.score[p], cams, q_in.face[p]);
     }
   }
-  const QPoints& q_prior = o.hull_core_px > 0 ? q_core : q_in;
+  const QPoints& q_hull_in = o.hull_core_px > 0 ? q_core : q_in;
   r.label.assign(C, 0);
   r.reason.assign(C, kNone);
   const int finest = m.max_cell_level();
   const double cell = tet::red_edge_length(m.lat, finest);
+  // In a scene without any silhouette every view gets one estimated from Q
+  // (Options::q_silhouettes; scenes with some silhouettes, such as dinoRing's 43 of 48, are
+  // left as they were): s_est holds the estimates, s_all the given and the estimated ones. Points of Q outside an estimated
+  // silhouette are dropped: another view sees background (or nothing consistent) there.
+  Scene s_est = s, s_all = s;
+  for (auto& mask : s_est.sil) mask = cv::Mat();
+  QPoints q_hull;
+  if (o.q_silhouettes && s.num_silhouettes() == 0) {
+    const auto est = q_silhouettes(s, q_hull_in, cell, o.q_sil_close_px, o.q_sil_margin_px, o.q_sil_min_points);
+    for (int v = 0; v < s.size(); ++v)
+      if (!est[v].empty()) s_est.sil[v] = s_all.sil[v] = est[v], ++r.q_sil_views;
+  }
+  if (r.q_sil_views > 0) {
+    for (std::int64_t p = 0; p < q_hull_in.size(); ++p) {
+      bool inside = true;
+      for (int v = 0; v < s.size() && inside; ++v) {
+        double z;
+        int u, w;
+        if (s_est.has_silhouette(v) && nearest_pixel(s.cams[v], q_hull_in.pos(p), z, u, w))
+          inside = s_est.sil[v].at<std::uint8_t>(w, u) != 0;
+      }
+      if (!inside) {
+        ++r.q_outside_hull;
+        continue;
+      }
+      const std::vector<std::int32_t> cams(q_hull_in.cams.begin() + q_hull_in.cam_offsets[p],
+                                           q_hull_in.cams.begin() + q_hull_in.cam_offsets[p + 1]);
+      q_hull.add(q_hull_in.pos(p), q_hull_in.nrm(p), q_hull_in.score[p], cams, q_hull_in.face[p]);
+    }
+  }
+  const QPoints& q_hull_out = r.q_sil_views > 0 ? q_hull : q_hull_in;
+  // Points in front of the median depth of Q in median_free_views views (only in scenes
+  // without any silhouette, where false matches crowd in front of the surface).
+  QPoints q_med;
+  const bool use_median = o.median_free_views > 0 && s.num_silhouettes() == 0;
+  if (use_median) {
+    q_med = q_hull_out;
+    for (int pass = 0; pass < o.median_passes; ++pass) {
+      const auto drop = in_front_of_median(s, q_med, cell, o.depth_margin * cell, o.median_free_views);
+      std::int64_t n = 0;
+      for (auto d : drop) n += d;
+      r.q_in_front_of_median += n;
+      if (n == 0) break;
+      q_med = keep_points(q_med, drop);
+    }
+  }
+  const QPoints& q_prior = use_median ? q_med : q_hull_out;
   // Free space outranks occlusion for Q itself: points lying in the free space that other
   // points prove (in front of what label.free_views views see) are false matches.
   QPoints q_free;
@@ -279,6 +462,14 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       r.label[c] = -1;
       r.reason[c] = kOutsideHull;
     }
+  if (r.q_sil_views > 0) {
+    const auto outside_q_hull = outside_visual_hull(m, s_est);
+    for (std::int32_t c = 0; c < C; ++c)
+      if (outside_q_hull[c] && r.label[c] == 0) {
+        r.label[c] = -1;
+        r.reason[c] = kOutsideQHull;
+      }
+  }
   // 3. votes
   r.votes = visibility_votes(m, s, q, o.vote_offset * cell, &r.rays);
   std::vector<std::int32_t> pool;
@@ -291,7 +482,18 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   }
   r.low_votes = percentile(pool, o.low_percentile);
   r.high_votes = percentile(pool, o.high_percentile);
-  const auto depth = q_depth_maps(s, q, cell);
+  auto depth = q_depth_maps(s, q, cell);
+  // Without silhouettes the visible side for the hidden (interior) test is the median depth
+  // of Q where at least 3 splats give one: false matches in front of the surface must not
+  // hide the air behind them.
+  if (use_median) {
+    const auto med = median_depth_maps(s, q, cell);
+    for (int v = 0; v < s.size(); ++v) {
+      cv::Mat f = depth.front[v].clone();
+      med[v].copyTo(f, med[v] != 0);
+      depth.front[v] = f;
+    }
+  }
   const double margin = o.depth_margin * cell;
   std::vector<std::int8_t> decided(C, 0);
   std::vector<std::uint8_t> is_candidate(C, 0);
@@ -352,9 +554,9 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     for (int k = 0; k < 4 && in_hull; ++k) {
       const Eigen::Vector3d V = m.vertex(m.cell_v[c][k]);
       for (int v = 0; v < s.size() && in_hull; ++v) {
-        if (!s.has_silhouette(v) || s.cams[v].depth(V) <= 0) continue;
+        if (!s_all.has_silhouette(v) || s.cams[v].depth(V) <= 0) continue;
         const Eigen::Vector2d p = s.cams[v].project(V);
-        in_hull = s.in_silhouette(v, p.x(), p.y(), true);
+        in_hull = s_all.in_silhouette(v, p.x(), p.y(), true);
       }
     }
     const int votes = r.votes[c];
@@ -372,30 +574,9 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   }
   // 4. the optional hull-core prior (Options::hull_core_px)
   if (o.hull_core_px > 0) {
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::int32_t c = 0; c < C; ++c) {
-      if (r.label[c] != 0) continue;  // box boundary or outside the hull
-      const Eigen::Vector3d X = m.cell_centroid(c);
-      int deep = 0;
-      bool ok = true;
-      for (int v = 0; v < s.size() && ok; ++v) {
-        if (!s.has_silhouette(v)) continue;
-        const Camera& cam = s.cams[v];
-        if (cam.depth(X) <= 0) continue;
-        const Eigen::Vector2d p = cam.project(X);
-        const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
-        if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
-        // projected radius of the cell around its centre, in pixels
-        double rad = 0;
-        for (int k = 0; k < 4; ++k) {
-          const Eigen::Vector3d V = m.vertex(m.cell_v[c][k]);
-          rad = cam.depth(V) > 0 ? std::max(rad, (cam.project(V) - p).norm()) : 1e30;
-        }
-        ok = dist[v].at<float>(w, u) >= rad + 1.0 + o.hull_core_px;  // +1: pixel rounding
-        ++deep;
-      }
-      if (ok && deep >= o.min_occluding_views) decided[c] = 2;
-    }
+    const auto core = hull_core_cells(m, s, dist, r.label, o.hull_core_px, o.min_occluding_views);
+    for (std::int32_t c = 0; c < C; ++c)
+      if (core[c]) decided[c] = 2;
   }
   for (std::int32_t c = 0; c < C; ++c)
     if (decided[c] == 2) {
@@ -419,6 +600,22 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     r.hull_exterior += r.reason[c] == kOutsideHull;
     r.voted_out += r.reason[c] == kVotedOut;
     r.hull_core += r.reason[c] == kHullCore;
+    r.q_hull_exterior += r.reason[c] == kOutsideQHull;
+  }
+  // Seeds without Q: a textureless object has almost no Q, so nothing is hidden behind it.
+  // With silhouettes, the hull core is matter whatever the texture (Options::seed_core_px).
+  // Not when Q hides cells that are only too deep (a cup's unseen cavity: the hull core
+  // would fill it), and never a cell that some view sees as free space or beyond Q.
+  if (r.interior == 0 && r.too_deep == 0 && o.seed_core_px > 0 && s.num_silhouettes() > 0) {
+    if (dist.empty()) dist = silhouette_distances(s);
+    const auto core = hull_core_cells(m, s, dist, r.label, o.seed_core_px, o.min_occluding_views);
+    for (std::int32_t c = 0; c < C; ++c)
+      if (core[c] && r.free_views[c] == 0 && r.beyond_views[c] == 0) {
+        r.label[c] = 1;
+        r.reason[c] = kSeedCore;
+        ++r.seed_core;
+        ++r.interior;
+      }
   }
   return r;
 }

@@ -56,10 +56,17 @@ int main(int argc, char** argv) {
     o.hull_core_px = ctx.params.d("label.hull_core_px");
     o.interior_depth = ctx.params.d("label.interior_depth");
     o.drop_free_points = ctx.params.b("label.drop_free_points");
+    o.q_silhouettes = ctx.params.b("label.q_silhouettes");
+    o.q_sil_close_px = ctx.params.d("label.q_sil_close_px");
+    o.q_sil_margin_px = ctx.params.d("label.q_sil_margin_px");
+    o.q_sil_min_points = ctx.params.i("label.q_sil_min_points");
+    o.seed_core_px = ctx.params.d("label.seed_core_px");
+    o.median_free_views = ctx.params.i("label.median_free_views");
+    o.median_passes = ctx.params.i("label.median_passes");
     info("label: ", mesh.num_cells(), " cells, ", q.size(), " points, ", scene.num_silhouettes(), " silhouettes");
     const label::Result r = label::label_cells(mesh, scene, q, o);
     require(r.interior > 0, scores_file, ": no cell could be labelled interior (too few points Q?); "
-            "lower label.min_occluding_views or raise label.low_percentile");
+            "lower label.min_occluding_views or raise label.low_percentile, or give silhouettes (label.seed_core_px)");
     auto f = h5::File::create(out);
     f.write_header("tetmvs.labels", 1, "label", ctx.params.values_for("label"), {scene_file, mesh_file, scores_file});
     f.write("/cells/label", r.label);
@@ -84,6 +91,11 @@ int main(int argc, char** argv) {
     f.set_attr("/", "too_deep", r.too_deep);
     f.set_attr("/", "q_in_free_space", r.q_in_free_space);
     f.set_attr("/", "rays", r.rays);
+    f.set_attr("/", "q_sil_views", r.q_sil_views);
+    f.set_attr("/", "q_outside_hull", r.q_outside_hull);
+    f.set_attr("/", "q_hull_exterior", r.q_hull_exterior);
+    f.set_attr("/", "seed_core", r.seed_core);
+    f.set_attr("/", "q_in_front_of_median", r.q_in_front_of_median);
     f.commit();
     if (!slice.empty()) {
       // a slice through the box centre, cells coloured by label
@@ -95,7 +107,8 @@ int main(int argc, char** argv) {
     }
     std::ostringstream os;
     os << r.interior << " interior, " << r.exterior << " exterior (" << r.boundary << " boundary, "
-       << r.hull_exterior << " hull, " << r.voted_out << " votes), " << r.hull_core << " interior by the hull core (" << r.q_dropped << " points of Q in it dropped), "
+       << r.hull_exterior << " hull, " << r.q_hull_exterior << " hull of Q, " << r.voted_out << " votes), " << r.hull_core << " interior by the hull core (" << r.q_dropped << " points of Q in it dropped), " << r.seed_core << " interior seeds by the hull core (Q gave none), "
+       << r.q_sil_views << " silhouettes estimated from Q (" << r.q_outside_hull << " points of Q outside dropped), " << r.q_in_front_of_median << " points of Q in front of the median dropped, "
        << r.q_in_free_space << " points of Q in free space dropped, " << r.too_deep << " hidden but too deep (left free), " << r.rays << " rays, vote percentiles "
        << r.low_votes << " / " << r.high_votes;
     ctx.summary = os.str();

@@ -12,7 +12,8 @@
    pipeline runs on it end to end (LEVELS=2, through cut2, with the rendered silhouettes);
    without colmap (skipped with a message) the same run uses the synthetic export. Then
    label, cut and silhouette-fix run on that run's intermediates with the silhouettes
-   removed: label works from the box and the votes, silhouette-fix passes the labels through.
+   removed: label works from the box, the votes and silhouettes estimated from Q (every view gets one,
+   some cells are exterior by them), silhouette-fix passes the labels through.
 3. TETMVS_COLMAP_QUALITY=1 (opt-in, several minutes): the scene reconstructed in both layouts,
    with and without silhouettes; accuracy and completeness agree within 5 %.
 
@@ -332,6 +333,10 @@ def no_silhouettes(rd):
         expect(h.attrs["hull_exterior"] == 0, "label without silhouettes: cells outside a hull")
         expect(int((h["cells/label"][()] > 0).sum()) > 0, "label without silhouettes: no interior cell")
         expect(int((h["cells/label"][()] < 0).sum()) > int(h.attrs["boundary"]), "label without silhouettes: no exterior cell from the votes")
+        # every view gets a silhouette estimated from Q; it carves (reason 8) and drops false points
+        expect(int(h.attrs["q_sil_views"]) == len(h5py.File(scene)["cameras/names"]), "label without silhouettes: views without a Q silhouette")
+        expect(int(h.attrs["q_hull_exterior"]) > 0 and int((h["cells/reason"][()] == 8).sum()) == int(h.attrs["q_hull_exterior"]),
+               "label without silhouettes: no exterior cell from the silhouettes of Q")
     if not ok(run([b("cut"), "--mesh", mesh, "--scores", scores, "--labels", lab, "--out", c1, "--ply", c1[:-3] + ".ply", "-q"]), "cut without silhouettes"):
         return
     if not ok(run([b("silhouette-fix"), "--scene", scene, "--mesh", mesh, "--scores", scores, "--labels", lab,

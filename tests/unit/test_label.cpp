@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <opencv2/imgproc.hpp>
 
 #include "common/label/labels.h"
 #include "common/synth/objects.h"
@@ -17,6 +18,7 @@
 #include "common/trimesh/raster.h"
 #include "common/trimesh/sample.h"
 #include "tests/unit/gt_inside.h"
+#include "tests/unit/sanitized.h"
 
 using namespace tetmvs;
 
@@ -152,7 +154,9 @@ TEST(Label, SphereKeepsInteriorShell) {
   const CupCase& k = sphere();
   label::Options o;
   o.interior_depth = 4;
-  const Wrong w = count_wrong(k, label::label_cells(k.mesh, k.scene, k.q, o));
+  const label::Result r = label::label_cells(k.mesh, k.scene, k.q, o);
+  EXPECT_EQ(r.seed_core, 0);  // Q gives interior cells: no seeds from the hull core
+  const Wrong w = count_wrong(k, r);
   std::printf("sphere: interior %lld (%lld outside), exterior %lld (%lld inside)\n", (long long)w.interior_total,
               (long long)w.interior, (long long)w.exterior_total, (long long)w.exterior);
   EXPECT_GT(w.interior_total, 20);
@@ -176,4 +180,104 @@ TEST(Label, PointsInFreeSpaceAreDropped) {
   EXPECT_EQ(r.q_in_free_space, 3);
   o.drop_free_points = false;
   EXPECT_EQ(label::label_cells(k.mesh, k.scene, q, o).q_in_free_space, 0);
+}
+
+namespace {
+// The sphere case without silhouettes (as from a COLMAP workspace).
+Scene without_silhouettes(const Scene& s) {
+  Scene n = s;
+  for (auto& m : n.sil) m = cv::Mat();
+  return n;
+}
+}  // namespace
+
+// Silhouettes estimated from Q (label.q_silhouettes) outline the object: in every view the
+// estimate covers the true silhouette but for a sliver, and exceeds it by little.
+TEST(Label, SilhouettesEstimatedFromQ) {
+  const CupCase& k = sphere();
+  const Scene s = without_silhouettes(k.scene);
+  const double cell = tet::red_edge_length(k.mesh.lat, k.mesh.max_cell_level());
+  const auto est = label::q_silhouettes(s, k.q, cell, 2, 2, 50);
+  ASSERT_EQ(static_cast<int>(est.size()), s.size());
+  for (int v = 0; v < s.size(); ++v) {
+    ASSERT_FALSE(est[v].empty()) << "view " << v;
+    const double truth = cv::countNonZero(k.scene.sil[v]);
+    const double missed = cv::countNonZero(k.scene.sil[v] & ~est[v]) / truth;
+    EXPECT_LT(missed, 0.01) << "view " << v;
+    // nothing farther from the true silhouette than a splat radius and the margin
+    cv::Mat dist;
+    cv::distanceTransform(k.scene.sil[v] == 0, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    double far = 0;
+    cv::minMaxLoc(dist, nullptr, &far, nullptr, nullptr, est[v]);
+    const double splat = cell * s.cams[v].focal() / (s.cams[v].centre() - Eigen::Vector3d(0, 0, 1)).norm();
+    EXPECT_LT(far, splat + 2 + 2) << "view " << v;
+  }
+  // a view with too few points gets no estimate
+  EXPECT_TRUE(label::q_silhouettes(s, k.q, cell, 2, 2, static_cast<int>(k.q.size()) + 1)[0].empty());
+  // views with a silhouette keep theirs: no estimate
+  EXPECT_TRUE(label::q_silhouettes(k.scene, k.q, cell, 2, 2, 50)[0].empty());
+}
+
+// Without silhouettes the estimated hull carves free space (exterior labels, none inside
+// the sphere) and drops a false match floating beside the sphere, "consistent" in views
+// that see the sphere behind it: other views see background there.
+TEST(Label, HullOfQCarvesAndDropsFalsePoints) {
+  const CupCase& k = sphere();
+  const Scene s = without_silhouettes(k.scene);
+  label::Options o;
+  o.interior_depth = 4;
+  o.q_sil_close_px = 2;
+  const label::Result base = label::label_cells(k.mesh, s, k.q, o);
+  QPoints q = k.q;
+  // beside the sphere on the x axis, in the views that look along x (the sphere behind it)
+  std::vector<std::int32_t> along_x;
+  for (int v = 0; v < s.size(); ++v) {
+    const Eigen::Vector3d d = (s.cams[v].centre() - Eigen::Vector3d(0, 0, 1)).normalized();
+    if (d.x() > 0.75) along_x.push_back(v);
+  }
+  ASSERT_GE(along_x.size(), 2u);
+  q.add(Eigen::Vector3d(1.6, 0.0, 1.0), Eigen::Vector3d(1, 0, 0), 0.95f, along_x, -1);
+  const label::Result r = label::label_cells(k.mesh, s, q, o);
+  EXPECT_EQ(r.q_sil_views, s.size());
+  EXPECT_EQ(r.q_outside_hull, base.q_outside_hull + 1);
+  EXPECT_LT(base.q_outside_hull, k.q.size() / 50);  // true points are kept (< 2 % dropped)
+  EXPECT_GT(r.q_hull_exterior, 100);
+  const Wrong w = count_wrong(k, r);
+  std::printf("sphere without silhouettes: %lld exterior by the hull of Q, %lld points outside it; interior %lld "
+              "(%lld outside), exterior %lld (%lld inside)\n",
+              (long long)r.q_hull_exterior, (long long)r.q_outside_hull, (long long)w.interior_total,
+              (long long)w.interior, (long long)w.exterior_total, (long long)w.exterior);
+  EXPECT_EQ(w.interior, 0);
+  EXPECT_EQ(w.exterior, 0);
+  EXPECT_GT(w.interior_total, 20);
+  // without the estimate only the box boundary and the votes give exterior cells; the false
+  // point is still dropped, as it lies in front of the median depth of Q in the views that
+  // call it consistent (label.median_free_views), while true points are kept
+  if (test::kSanitized) return;  // two more label runs: the Release pass checks them
+  o.q_silhouettes = false;
+  const label::Result off = label::label_cells(k.mesh, s, q, o);
+  EXPECT_EQ(off.q_hull_exterior, 0);
+  EXPECT_LT(off.exterior, r.exterior);
+  const label::Result off_base = label::label_cells(k.mesh, s, k.q, o);
+  EXPECT_EQ(off.q_in_front_of_median, off_base.q_in_front_of_median + 1);
+  EXPECT_LT(off_base.q_in_front_of_median, k.q.size() / 50);
+}
+
+// Seeds without Q (label.seed_core_px): a textureless object gives (almost) no Q, so no cell
+// is hidden behind it; with silhouettes the hull core seeds the interior, all inside.
+TEST(Label, SeedsFromTheHullCoreWhenQGivesNone) {
+  const CupCase& k = sphere();
+  label::Options o;
+  const label::Result r = label::label_cells(k.mesh, k.scene, QPoints(), o);
+  const Wrong w = count_wrong(k, r);
+  std::printf("sphere, no Q: %lld interior seeds (%lld outside)\n", (long long)r.seed_core, (long long)w.interior);
+  EXPECT_GT(r.seed_core, 20);
+  EXPECT_EQ(r.interior, r.seed_core);
+  EXPECT_EQ(w.interior, 0);
+  EXPECT_EQ(w.exterior, 0);
+  if (test::kSanitized) return;  // two more label runs: the Release pass checks them
+  o.seed_core_px = 0;
+  EXPECT_EQ(label::label_cells(k.mesh, k.scene, QPoints(), o).interior, 0);
+  // without silhouettes there is nothing to seed from
+  EXPECT_EQ(label::label_cells(k.mesh, without_silhouettes(k.scene), QPoints(), label::Options()).interior, 0);
 }
