@@ -29,6 +29,7 @@ void prepare_centre(const Views& views, const Eigen::Vector3d& X, const Options&
     const View& v = views[i];
     Scratch::ViewCache& c = s.cache[i];
     c.usable = false;
+    if (s.hidden && s.hidden[i]) continue;
     c.h0 = v.project_h(X);
     if (!(c.h0.z() > 0)) continue;
     const double u = c.h0.x() / c.h0.z(), w = c.h0.y() / c.h0.z();

@@ -43,6 +43,11 @@ class Scratch {
   std::vector<float> row;      // one ref's NCCs with its partners
   std::vector<int> row_idx;
   int num_views = -1, k = -1, mu = -1;
+
+  // Set by the caller (not by the measure): when non-null, views i with hidden[i] != 0
+  // are not usable for the next patch centres (photoconsist's occlusion test,
+  // common/photoconsist/occlusion.h). Must point to num_views flags.
+  const unsigned char* hidden = nullptr;
 };
 
 }  // namespace tetmvs::photo

@@ -26,7 +26,8 @@ std::vector<std::uint8_t> faces_to_score(const tet::TetMesh& m) {
 }
 
 ScoresResult score_faces(const tet::TetMesh& m, const photo::Views& views, const HullTest& hull,
-                         const photo::Options& opts, const std::vector<std::uint8_t>& selected, bool progress) {
+                         const photo::Options& opts, const std::vector<std::uint8_t>& selected, bool progress,
+                         const OcclusionMaps* occl) {
   const std::int32_t F = m.num_faces();
   require(static_cast<std::int32_t>(selected.size()) == F, "photoconsist: face selection has ", selected.size(),
           " flags for ", F, " faces");
@@ -36,11 +37,15 @@ ScoresResult score_faces(const tet::TetMesh& m, const photo::Views& views, const
   for (std::int32_t f = 0; f < F; ++f)
     if (selected[f]) list.push_back(f);
   R.scored_faces = static_cast<std::int64_t>(list.size());
-  std::vector<std::uint8_t> outside(list.size(), 0), defined(list.size(), 0);
+  std::vector<std::uint8_t> outside(list.size(), 0), defined(list.size(), 0), hidden(list.size(), 0);
+  if (occl && occl->empty()) occl = nullptr;
+  require(!occl || occl->num_views() == views.size(), "photoconsist: occlusion maps of ",
+          occl ? occl->num_views() : 0, " views for ", views.size(), " views");
   Progress bar("photoconsist face scores", progress ? R.scored_faces : 0);
 #pragma omp parallel
   {
     photo::Scratch scratch;
+    std::vector<std::uint8_t> mask(static_cast<std::size_t>(views.size()), 0);
 #pragma omp for schedule(dynamic, 64)
     for (std::int64_t q = 0; q < R.scored_faces; ++q) {
       const std::int32_t f = list[q];
@@ -49,17 +54,21 @@ ScoresResult score_faces(const tet::TetMesh& m, const photo::Views& views, const
       if (!hull.inside((a + b + c) / 3.0)) {
         outside[q] = 1;
       } else {
+        scratch.hidden = nullptr;
+        if (occl && occl->hidden_views(views, (a + b + c) / 3.0, mask.data()) > 0)
+          scratch.hidden = mask.data(), hidden[q] = 1;
         const photo::PatchResult p0 = photo::face_patch(views, a, b, c, opts, scratch);
         const photo::PatchResult p1 = photo::face_patch(views, a, c, b, opts, scratch);
         R.omega[2 * static_cast<std::size_t>(f)] = p0.omega();
         R.omega[2 * static_cast<std::size_t>(f) + 1] = p1.omega();
         defined[q] = static_cast<std::uint8_t>(p0.valid() + p1.valid());
+        scratch.hidden = nullptr;
       }
       bar.tick();
     }
   }
   bar.done();
-  for (std::size_t q = 0; q < list.size(); ++q) R.outside_hull += outside[q], R.defined += defined[q];
+  for (std::size_t q = 0; q < list.size(); ++q) R.outside_hull += outside[q], R.defined += defined[q], R.hidden += hidden[q];
   return R;
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/photoconsist/hull.h"
+#include "common/photoconsist/occlusion.h"
 #include "common/photo/options.h"
 #include "common/tetmesh/tetmesh.h"
 
@@ -25,11 +26,13 @@ struct ScoresResult {
   std::int64_t scored_faces = 0;   // selected faces
   std::int64_t outside_hull = 0;   // of those, skipped because the centroid is outside the hull
   std::int64_t defined = 0;        // oriented faces with a defined score (enough views)
+  std::int64_t hidden = 0;         // scored faces whose centroid is hidden in some view (occlusion)
 };
 
 // omega for the selected faces (OpenMP over faces; independent of the thread count).
+// With occl, a face is scored without the views its centroid is hidden in (occlusion.h).
 ScoresResult score_faces(const tet::TetMesh& m, const photo::Views& views, const HullTest& hull,
                          const photo::Options& opts, const std::vector<std::uint8_t>& selected,
-                         bool progress = true);
+                         bool progress = true, const OcclusionMaps* occl = nullptr);
 
 }  // namespace tetmvs::photoconsist

@@ -90,13 +90,20 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
   R.crossing.assign(T, 0);
   R.reused.assign(T, 0);
   R.best_score.assign(T, photo::kNoScore);
-  std::vector<std::int64_t> scored(T, 0), best_index(T, -1);
+  std::vector<std::int64_t> scored(T, 0), best_index(T, -1), hidden_pts(T, 0), rescored(T, 0);
+  const OcclusionMaps* occl = in.occl && !in.occl->empty() ? in.occl : nullptr;
+  const OcclusionMaps* occl_prev = in.occl_prev && !in.occl_prev->empty() ? in.occl_prev : nullptr;
+  require(!occl_prev || occl_prev->num_views() == views.size(), "photoconsist: previous occlusion maps of ",
+          occl_prev ? occl_prev->num_views() : 0, " views for ", views.size(), " views");
+  require(!occl || occl->num_views() == views.size(), "photoconsist: occlusion maps of ", occl ? occl->num_views() : 0,
+          " views for ", views.size(), " views");
 
   Progress progress("photoconsist faces", in.progress ? T : 0);
 #pragma omp parallel
   {
     photo::Scratch scratch;
     std::vector<std::int64_t> index;
+    std::vector<std::uint8_t> mask(static_cast<std::size_t>(views.size()), 0), mask_prev(mask);
 #pragma omp for schedule(dynamic, 16)
     for (std::int64_t t = 0; t < T; ++t) {
       const std::int32_t f = R.face[t];
@@ -117,6 +124,29 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
           for (std::size_t p = 0; p < index.size(); ++p) w.codes[p] = pc[index[p]];
         }
       }
+      // A reused code was scored with the previous level's occluders (or none): score
+      // again the points whose hidden views changed.
+      if (w.reused && (occl || occl_prev)) {
+        const Eigen::Vector3d nf = (b - a).cross(c - a);
+        std::int64_t p = 0;
+        for (int j = 0; j <= w.n; ++j)
+          for (int i = 0; i + j <= w.n; ++i, ++p) {
+            if (!code_is_sample(w.codes[p])) continue;
+            const Eigen::Vector3d X = lattice_point(a, b, c, w.n, i, j);
+            const int nh = occl ? occl->hidden_views(views, X, mask.data()) : 0;
+            const int nh_prev = occl_prev ? occl_prev->hidden_views(views, X, mask_prev.data()) : 0;
+            if (nh == 0 && nh_prev == 0) continue;
+            if (nh == 0) std::fill(mask.begin(), mask.end(), 0);
+            if (nh_prev == 0) std::fill(mask_prev.begin(), mask_prev.end(), 0);
+            if (nh > 0) ++hidden_pts[t];
+            if (mask == mask_prev) continue;
+            scratch.hidden = nh > 0 ? mask.data() : nullptr;
+            w.codes[p] = encode_point(photo::score_point(views, X, nf, opts.line, scratch), opts.line);
+            scratch.hidden = nullptr;
+            ++rescored[t];
+          }
+        scored[t] = rescored[t];
+      }
       if (!w.reused) {
         const int n = reusable_divisions(need);
         w.n = n;
@@ -128,7 +158,10 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
             const Eigen::Vector3d X = lattice_point(a, b, c, n, i, j);
             if (!hull.inside(X) || hull.in_core(X)) continue;  // not a sample
             if (w.codes.empty()) w.codes.assign(static_cast<std::size_t>(lattice_size(n)), kCodeOutside);
+            scratch.hidden = nullptr;
+            if (occl && occl->hidden_views(views, X, mask.data()) > 0) scratch.hidden = mask.data(), ++hidden_pts[t];
             const photo::PointResult r = photo::score_point(views, X, nf, opts.line, scratch);
+            scratch.hidden = nullptr;
             w.codes[p] = encode_point(r, opts.line);
             ++nscored;
           }
@@ -163,6 +196,8 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
     R.consistent_points += R.consistent[t];
     R.scored_points += scored[t];
     R.reused_faces += R.reused[t];
+    R.hidden_points += hidden_pts[t];
+    R.rescored_points += rescored[t];
     if (!R.crossing[t]) continue;
     ++R.crossing_faces;
     for (int k = 0; k < 2; ++k) {
@@ -181,6 +216,7 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
 #pragma omp parallel
   {
     photo::Scratch scratch;
+    std::vector<std::uint8_t> mask(static_cast<std::size_t>(views.size()), 0);
 #pragma omp for schedule(dynamic, 16)
     for (std::int64_t q = 0; q < static_cast<std::int64_t>(cross.size()); ++q) {
       const std::int64_t t = cross[q];
@@ -193,7 +229,9 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
       int j = 0;
       while (p > n - j) p -= n - j + 1, ++j;
       bestX[q] = lattice_point(a, b, c, n, static_cast<int>(p), j);
+      scratch.hidden = occl && occl->hidden_views(views, bestX[q], mask.data()) > 0 ? mask.data() : nullptr;
       best[q] = photo::score_point(views, bestX[q], (b - a).cross(c - a), opts.line, scratch);
+      scratch.hidden = nullptr;
     }
   }
   std::vector<std::int32_t> cams;

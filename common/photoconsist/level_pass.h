@@ -19,6 +19,7 @@
 
 #include "common/photoconsist/face_cache.h"
 #include "common/photoconsist/hull.h"
+#include "common/photoconsist/occlusion.h"
 #include "common/photoconsist/options.h"
 #include "common/qpoints.h"
 #include "common/tetmesh/tetmesh.h"
@@ -47,6 +48,8 @@ struct LevelResult {
   std::int64_t crossing_faces = 0;
   std::int64_t reused_faces = 0;
   std::int64_t active_cells = 0;
+  std::int64_t hidden_points = 0;    // scored points hidden in at least one view (occlusion)
+  std::int64_t rescored_points = 0;  // cached points scored again (their hidden views changed)
 };
 
 struct LevelInput {
@@ -54,6 +57,13 @@ struct LevelInput {
   const photo::Views* views = nullptr;
   const HullTest* hull = nullptr;
   const FaceCache* prev = nullptr;  // cache of the previous level (compatible), or nullptr
+  // Occluders (Q of the previous levels, occlusion.h), or nullptr: no occlusion test.
+  // With them, a lattice point is scored without the views it is hidden in.
+  const OcclusionMaps* occl = nullptr;
+  // The occluders the cached codes of `prev` were scored with (Q of the levels before the
+  // previous one), or nullptr (none: level 1). A reused code is scored again only where
+  // the point's hidden views differ between occl_prev and occl.
+  const OcclusionMaps* occl_prev = nullptr;
   bool keep_all = false;            // cache every tested face (inspection), not only faces of active cells
   bool progress = true;
 };

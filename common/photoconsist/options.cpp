@@ -30,6 +30,7 @@ void Options::check() const {
   require(hull_margin_px >= 0 && hull_margin_px <= 100, "photoconsist: photo.hull_margin_px = ",
           hull_margin_px, " must lie in [0, 100]");
   rule.check();
+  occl.check();
 }
 
 Options Options::from_params(const Params& p) {
@@ -53,6 +54,7 @@ Options Options::from_params(const Params& p) {
   const std::string r = p.s("photo.cross_rule");
   require(r == "min" || r == "max", "photoconsist: photo.cross_rule = '", r, "' must be 'min' or 'max'");
   o.rule.use_max = r == "max";
+  o.occl = OcclusionOptions::from_params(p);
   o.check();
   return o;
 }
@@ -66,6 +68,10 @@ std::string Options::cache_signature() const {
   if (line.detrend) os << " detrend=1";
   if (line.point_grid) os << " grid=1";
   if (hull_core_px > 0) os << " hull_core_px=" << hull_core_px;  // absent when off: caches written before the option stay valid
+  // The occlusion options (absent when off). Cached codes of a level scored with other
+  // occluders are re-checked point by point (level_pass.cpp), so only the options count.
+  if (occl.enabled)
+    os << " occl=" << occl.bin_px << "," << occl.support << "," << occl.splat_cells << "," << occl.margin_cells << "," << occl.filter;
   return os.str();
 }
 

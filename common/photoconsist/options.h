@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/photo/options.h"
+#include "common/photoconsist/occlusion.h"
 
 namespace tetmvs {
 class Params;
@@ -38,6 +39,7 @@ struct Options {
   double hull_margin_px = 2;  // photo.hull_margin_px: silhouettes dilated by this for the hull test
   double hull_core_px = 0;    // label.hull_core_px: lattice points this deep in every silhouette are skipped
   CrossingRule rule;
+  OcclusionOptions occl;      // photo.occlusion, photo.occl_*: occlusion-aware camera selection (level >= 1)
   void check() const;
   static Options from_params(const Params& p);
   // Values that must agree between a cache and the run reusing it.

@@ -50,6 +50,26 @@ void write_eval(h5::File& f, const pc::LevelEval& E, double cell_size) {
   f.set_attr("/eval", "near_dist", E.near_dist);
 }
 
+// Depth maps of the points of Q found so far (empty when off or when Q is empty).
+// Only the points found before level `below`.
+pc::OcclusionMaps occluders(const photo::Views& views, const pc::LeveledPoints& all, const tet::TetMesh& mesh,
+                            const pc::OcclusionOptions& o, int below = 1 << 30) {
+  if (!o.enabled) return {};
+  std::vector<double> cell_size;
+  for (int l = 0; l <= mesh.level; ++l) cell_size.push_back(tet::red_edge_length(mesh.lat, l));
+  QPoints q;
+  std::vector<std::int32_t> level;
+  std::vector<std::int32_t> cams;
+  for (std::int64_t p = 0; p < all.q.size(); ++p) {
+    if (all.level[p] >= below) continue;
+    cams.assign(all.q.cams.begin() + all.q.cam_offsets[p], all.q.cams.begin() + all.q.cam_offsets[p + 1]);
+    q.add(all.q.pos(p), all.q.nrm(p), all.q.score[p], cams, -1);
+    level.push_back(all.level[p]);
+  }
+  if (q.size() == 0) return {};
+  return pc::OcclusionMaps(views, q, level, cell_size, o);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -114,7 +134,9 @@ int main(int argc, char** argv) {
               " is level ", mesh.level);
       if (cache_file.empty()) warn("photoconsist --scores without --cache: Q (/points) will be empty");
       const auto sel = pc::faces_to_score(mesh);
-      const pc::ScoresResult S = pc::score_faces(mesh, views, hull, opts.face, sel, !ctx.quiet);
+      const pc::OcclusionMaps occl = occluders(views, all, mesh, opts.occl);
+      const pc::ScoresResult S =
+          pc::score_faces(mesh, views, hull, opts.face, sel, !ctx.quiet, occl.empty() ? nullptr : &occl);
       // Q in the final file: faces refer to earlier meshes, so they become -1.
       pc::LeveledPoints q;
       q.append(all.q, 0, false);
@@ -127,11 +149,16 @@ int main(int argc, char** argv) {
       f.write("/faces/scored", sel, {sel.size()});
       f.set_attr("/faces", "scored_faces", S.scored_faces);
       f.set_attr("/faces", "outside_hull", S.outside_hull);
+      f.set_attr("/faces", "occluders", occl.points());
+      f.set_attr("/faces", "occluders_dropped", occl.dropped());
+      f.set_attr("/faces", "hidden_faces", S.hidden);
       f.set_attr("/", "level", static_cast<std::int64_t>(mesh.level));
       pc::write_leveled_points(f, q, "/points");
       std::ostringstream os;
       os << "faces=" << mesh.num_faces() << " scored=" << S.scored_faces << " outside_hull=" << S.outside_hull
          << " defined_orientations=" << S.defined << " points=" << q.q.size();
+      if (!occl.empty())
+        os << " occluders=" << occl.points() << " (dropped " << occl.dropped() << ") hidden_faces=" << S.hidden;
       if (gt) {
         const double cs = tet::red_edge_length(mesh.lat, mesh.level);
         const double acc = pc::fraction_within(q.q, *gt, cs);
@@ -153,7 +180,15 @@ int main(int argc, char** argv) {
       require(prev.level == level - 1, cache_file, ": its cache is of level ", prev.level, ", expected ",
               level - 1);
 
+    // Occluders: Q of the previous levels (nothing at level 0).
+    const pc::OcclusionMaps occl = occluders(views, all, mesh, opts.occl);
+    // The occluders the cached codes were scored with (those of the previous level).
+    const pc::OcclusionMaps occl_prev =
+        use_prev ? occluders(views, all, mesh, opts.occl, level - 1) : pc::OcclusionMaps{};
+
     pc::LevelInput in;
+    in.occl = occl.empty() ? nullptr : &occl;
+    in.occl_prev = occl_prev.empty() ? nullptr : &occl_prev;
     in.mesh = &mesh;
     in.views = &views;
     in.hull = &hull;
@@ -178,6 +213,10 @@ int main(int argc, char** argv) {
     f.write("/faces/crossing", R.crossing, {T});
     f.write("/faces/reused", R.reused, {T});
     f.write("/faces/best_score", R.best_score, {T});
+    f.set_attr("/faces", "occluders", occl.points());
+    f.set_attr("/faces", "occluders_dropped", occl.dropped());
+    f.set_attr("/faces", "hidden_points", R.hidden_points);
+    f.set_attr("/faces", "rescored_points", R.rescored_points);
     write_qpoints(f, R.points, "/points");
     pc::write_leveled_points(f, all, "/points_all");
     pc::write_face_cache(f, R.cache);
@@ -187,6 +226,9 @@ int main(int argc, char** argv) {
        << " scored=" << R.scored_points << " consistent=" << R.consistent_points
        << " crossing_faces=" << R.crossing_faces << " active_cells=" << R.active_cells << "/" << mesh.num_cells()
        << " points=" << R.points.size() << " Q=" << all.q.size();
+    if (!occl.empty())
+      os << " occluders=" << occl.points() << " (dropped " << occl.dropped() << ") hidden_points=" << R.hidden_points
+         << " rescored=" << R.rescored_points;
     if (gt) {
       const double cs = tet::red_edge_length(mesh.lat, level);
       const pc::LevelEval E = pc::evaluate_level(mesh, R, *gt, cs);
