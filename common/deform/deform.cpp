@@ -348,8 +348,29 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
         for (int v = 0; v < nv; ++v) active[v] = !M.settled[v];
       else  // full sweeps skip settled vertices that have not moved since their last probe
         for (int v = 0; v < nv; ++v) active[v] = !M.settled[v] || M.drift[v] >= opt.texture_settle_px;
+      const std::vector<double> H =
+          opt.texture_sag_rounds > 0 ? mean_curvature(M.V, N, topo, opt.texture_sag_rounds) : std::vector<double>{};
       ftex = texture_force(M.V, N, M.fp, views, opt.occlusion ? vis : std::vector<std::uint8_t>{}, active, opt, popt,
-                           probes);
+                           probes, H);
+      if (opt.texture_ring_weight > 0) {
+        // the move toward the peak blended with the neighbours' (applied) offsets along n
+        std::vector<Eigen::Vector3d> blended(ftex);
+#pragma omp parallel for schedule(static)
+        for (int v = 0; v < nv; ++v) {
+          if (!probes[v].applied) continue;
+          double sum = 0;
+          int cnt = 0;
+          for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) {
+            const int j = topo.nbr[q];
+            if (!probes[j].applied) continue;
+            sum += ftex[j].dot(N[v]);
+            ++cnt;
+          }
+          if (cnt > 0)
+            blended[v] = (1 - opt.texture_ring_weight) * ftex[v] + opt.texture_ring_weight * (sum / cnt) * N[v];
+        }
+        ftex.swap(blended);
+      }
       for (int v = 0; v < nv; ++v)
         if (probes[v].probed)
           M.settled[v] = !probes[v].applied || std::abs(probes[v].offset_px) < opt.texture_settle_px;

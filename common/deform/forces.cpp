@@ -65,6 +65,49 @@ std::vector<Eigen::Vector3d> vertex_normals(const std::vector<Eigen::Vector3d>& 
   return N;
 }
 
+std::vector<double> mean_curvature(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3d>& N,
+                                   const Topology& topo, int rounds) {
+  const int nv = static_cast<int>(V.size());
+  // normals averaged over the 1-ring `rounds` times: vertex normals of a rough mesh
+  // scatter by degrees, which 1-ring differences of ~1 px turn into curvatures of 1/(10 px)
+  std::vector<Eigen::Vector3d> Ns = N, Nt(nv);
+  for (int r = 0; r < rounds; ++r) {
+#pragma omp parallel for schedule(static)
+    for (int v = 0; v < nv; ++v) {
+      Eigen::Vector3d sum = Ns[v];
+      for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) sum += Ns[topo.nbr[q]];
+      const double l = sum.norm();
+      Nt[v] = l > 0 ? Eigen::Vector3d(sum / l) : Ns[v];
+    }
+    Ns.swap(Nt);
+  }
+  std::vector<double> H(nv, 0.0), tmp(nv, 0.0);
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < nv; ++v) {
+    double sum = 0;
+    int cnt = 0;
+    for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) {
+      const int j = topo.nbr[q];
+      const Eigen::Vector3d e = V[j] - V[v];
+      const double l2 = e.squaredNorm();
+      if (!(l2 > 0)) continue;
+      sum += (Ns[j] - Ns[v]).dot(e) / l2;
+      ++cnt;
+    }
+    H[v] = cnt ? sum / cnt : 0.0;
+  }
+  for (int r = 0; r < rounds; ++r) {
+#pragma omp parallel for schedule(static)
+    for (int v = 0; v < nv; ++v) {
+      double sum = H[v];
+      for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) sum += H[topo.nbr[q]];
+      tmp[v] = sum / (1 + topo.nbr_start[v + 1] - topo.nbr_start[v]);
+    }
+    H.swap(tmp);
+  }
+  return H;
+}
+
 std::vector<double> vertex_footprints(const std::vector<Eigen::Vector3d>& V, const std::vector<Camera>& cams,
                                       double fallback) {
   const int nv = static_cast<int>(V.size());
@@ -310,7 +353,8 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
                                            const std::vector<Eigen::Vector3d>& N, const std::vector<double>& fp,
                                            const photo::Views& views, const std::vector<std::uint8_t>& vis,
                                            const std::vector<std::uint8_t>& active, const Options& opt,
-                                           const photo::Options& popt, std::vector<TextureProbe>& probes) {
+                                           const photo::Options& popt, std::vector<TextureProbe>& probes,
+                                           const std::vector<double>& curvature) {
   const int nv = static_cast<int>(V.size()), nc = views.size();
   std::vector<Eigen::Vector3d> out(nv, Eigen::Vector3d::Zero());
   probes.assign(nv, TextureProbe{});
@@ -325,6 +369,9 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
   const double cos_bmin = std::cos(opt.texture_baseline_min_deg * M_PI / 180.0);
   const double cos_bmax = std::cos(opt.texture_baseline_max_deg * M_PI / 180.0);
   const PatchKernel kernel(mu, popt.detrend, static_cast<float>(popt.min_std));
+  double m2 = 0;  // mean squared sample offset along one patch axis, in samples
+  for (int i = 0; i < mu; ++i) m2 += (i - mu / 2) * (i - mu / 2);
+  m2 /= mu;
   // Coarse offsets every texture_coarse_px over -range..range; around the best, halving
   // steps down to texture_step_px (each level keeps the best of the peak and its two
   // neighbours); at the finest level a parabola through the peak and its neighbours.
@@ -333,7 +380,10 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
   while (opt.texture_coarse_px / (1 << (L + 1)) >= opt.texture_step_px * (1 - 1e-9) && L < 8) ++L;
   const double hmin = opt.texture_coarse_px / (1 << L);
   const int Jc = std::max(1, static_cast<int>(std::lround(opt.texture_range_px / opt.texture_coarse_px)));
-  const int nco = 2 * Jc + 1;
+  // wide search (texture_far_px): the coarse profile extended to -far..far when the near
+  // one shows no clear peak; prof[j] is the offset (j - Jf) coarse steps
+  const int Jf = std::max(Jc, static_cast<int>(std::lround(opt.texture_far_px / opt.texture_coarse_px)));
+  const int nco = 2 * Jf + 1;
 #pragma omp parallel
   {
     std::vector<float> buf(static_cast<size_t>(M + 1) * ns);
@@ -397,23 +447,37 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
         cache.emplace_back(key, sc);
         return sc;
       };
+      // Best of the evaluated coarse offsets j0..j1 and whether it is a clear peak: the
+      // profile drops by the contrast on both sides of it (-1: no score at all).
       int best = -1;
-      for (int j = 0; j < nco; ++j) {
-        prof[j] = get((j - Jc) << L);
-        if (prof[j] != photo::kNoScore && (best < 0 || prof[j] > prof[best])) best = j;
+      bool clear = false;
+      const auto find_peak = [&](int j0, int j1, double min_score) {
+        best = -1;
+        for (int j = j0; j <= j1; ++j)
+          if (prof[j] != photo::kNoScore && (best < 0 || prof[j] > prof[best])) best = j;
+        if (best < 0) return;
+        float lo_left = 2.f, lo_right = 2.f;
+        for (int j = j0; j < best; ++j)
+          if (prof[j] != photo::kNoScore) lo_left = std::min(lo_left, prof[j]);
+        for (int j = best + 1; j <= j1; ++j)
+          if (prof[j] != photo::kNoScore) lo_right = std::min(lo_right, prof[j]);
+        const float contrast = prof[best] - std::max(lo_left, lo_right);
+        clear = prof[best] >= min_score && contrast >= opt.texture_min_contrast;
+      };
+      for (int j = Jf - Jc; j <= Jf + Jc; ++j) prof[j] = get((j - Jf) << L);
+      find_peak(Jf - Jc, Jf + Jc, opt.texture_min_score);
+      if (!clear && Jf > Jc) {
+        // no clear peak within -range..range (none, or at one of its ends): look farther
+        for (int j = 0; j < Jf - Jc; ++j) prof[j] = get((j - Jf) << L);
+        for (int j = Jf + Jc + 1; j < nco; ++j) prof[j] = get((j - Jf) << L);
+        find_peak(0, nco - 1, std::max(opt.texture_min_score, opt.texture_far_min_score));
+        probes[v].far = true;
       }
       if (best < 0) continue;
       TextureProbe& pr = probes[v];
       pr.best_score = prof[best];
-      // A clear peak: the coarse profile drops by the contrast on both sides of it.
-      float lo_left = 2.f, lo_right = 2.f;
-      for (int j = 0; j < best; ++j)
-        if (prof[j] != photo::kNoScore) lo_left = std::min(lo_left, prof[j]);
-      for (int j = best + 1; j < nco; ++j)
-        if (prof[j] != photo::kNoScore) lo_right = std::min(lo_right, prof[j]);
-      const float contrast = prof[best] - std::max(lo_left, lo_right);
-      if (!(prof[best] >= opt.texture_min_score && contrast >= opt.texture_min_contrast)) continue;
-      int kb = (best - Jc) << L;
+      if (!clear) continue;
+      int kb = (best - Jf) << L;
       float sb = prof[best];
       for (int lev = L - 1; lev >= 0; --lev) {
         const int h = 1 << lev;
@@ -433,6 +497,8 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
         const double den = fm - 2.0 * sb + fp;
         if (den < 0) off += std::clamp(0.5 * (fm - fp) / den, -0.5, 0.5) * hmin;
       }
+      // the sag of the curved surface under the plane patch (see forces.h)
+      if (!curvature.empty()) off += curvature[v] * m2 * spacing * spacing / unit;
       pr.best_score = sb;
       pr.applied = true;
       pr.offset_px = static_cast<float>(off);

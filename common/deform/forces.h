@@ -38,6 +38,12 @@ ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat&
 std::vector<Eigen::Vector3d> vertex_normals(const std::vector<Eigen::Vector3d>& V,
                                             const std::vector<Eigen::Vector3i>& F);
 
+// Mean curvature H per vertex (1/length; > 0 where convex, for outward normals): the mean
+// over the 1-ring of the normal curvatures (n_j - n_v) . (x_j - x_v) / |x_j - x_v|^2, then
+// averaged over the 1-ring `rounds` times (the estimate is noisy on a rough mesh).
+std::vector<double> mean_curvature(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3d>& N,
+                                   const Topology& topo, int rounds);
+
 // Pixel footprint (depth / focal) of each vertex in its finest view among those where it
 // is in front and inside the image; `fallback` where no view sees it.
 std::vector<double> vertex_footprints(const std::vector<Eigen::Vector3d>& V, const std::vector<Camera>& cams,
@@ -71,6 +77,7 @@ struct TextureProbe {
   float offset_px = 0.f;    // refined offset of the peak (pixels along the normal)
   bool applied = false;     // the peak was clear: the force moves toward it
   bool probed = false;      // the vertex was active (its profile was measured)
+  bool far = false;         // no clear peak within texture_range_px: searched to texture_far_px
 };
 
 // Texture displacement per vertex (a plane sweep along the normal). Views: among those
@@ -80,15 +87,20 @@ struct TextureProbe {
 // depth to show, at most texture_partners of them). A texture_mu x texture_mu patch on
 // the plane through X + t n (sample spacing: one reference pixel) is sampled in each;
 // the score at t is the mean NCC of the reference with its partners. t runs over
-// -range..range pixels (of the vertex's finest view) every 2 texture_step_px (coarse),
-// then the two fine offsets beside the coarse peak; the best of these is refined by a
-// parabola. When the peak is clear (score >= texture_min_score and the coarse profile
+// -range..range pixels (of the vertex's finest view) every texture_coarse_px, and over
+// -far..far (texture_far_px) when that shows no clear peak; around the best, steps halve
+// down to texture_step_px, then a parabola through the peak and its neighbours. When the peak is clear (score >= texture_min_score and the coarse profile
 // drops by texture_min_contrast on both sides) the displacement is offset * n.
 // active (may be empty: all): vertices to probe; the others get no force and an empty probe.
+// curvature (may be empty: none): mean curvature H per vertex (mean_curvature). The patch is
+// planar but the surface curves away from it: the plane that matches a convex patch best
+// lies inside the surface by the patch's mean sag, H * mean((i - c)^2) * spacing^2 (0.14
+// px on the synthetic torus' outside, measured); the offset is corrected by it.
 std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V,
                                            const std::vector<Eigen::Vector3d>& N, const std::vector<double>& fp,
                                            const photo::Views& views, const std::vector<std::uint8_t>& vis,
                                            const std::vector<std::uint8_t>& active, const Options& opt,
-                                           const photo::Options& popt, std::vector<TextureProbe>& probes);
+                                           const photo::Options& popt, std::vector<TextureProbe>& probes,
+                                           const std::vector<double>& curvature = {});
 
 }  // namespace tetmvs::deform

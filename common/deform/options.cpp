@@ -26,6 +26,12 @@ void Options::check() const {
           " must be in [texture_step_px, 100]");
   require(finite_in(texture_range_px, texture_coarse_px, 100), "deform options: texture_range_px = ", texture_range_px,
           " must be in [texture_coarse_px, 100]");
+  require(finite_in(texture_far_px, texture_range_px, 100), "deform options: texture_far_px = ", texture_far_px,
+          " must be in [texture_range_px = ", texture_range_px, ", 100]");
+  require(finite_in(texture_far_min_score, -1, 1), "deform options: texture_far_min_score = ", texture_far_min_score,
+          " must be in [-1, 1]");
+  require(texture_far_px / texture_coarse_px <= 200, "deform options: texture_far_px / texture_coarse_px = ",
+          texture_far_px / texture_coarse_px, " offsets per side; at most 200");
   require(texture_range_px / texture_coarse_px <= 200, "deform options: texture_range_px / texture_coarse_px = ",
           texture_range_px / texture_coarse_px, " offsets per side; at most 200");
   require(finite_in(texture_min_score, -1, 1), "deform options: texture_min_score = ", texture_min_score, " must be in [-1, 1]");
@@ -47,6 +53,10 @@ void Options::check() const {
           " must be in [0, 100]");
   require(texture_recheck >= 1 && texture_recheck <= 1000, "deform options: texture_recheck = ", texture_recheck,
           " must be in [1, 1000]");
+  require(texture_sag_rounds >= 0 && texture_sag_rounds <= 100, "deform options: texture_sag_rounds = ",
+          texture_sag_rounds, " must be in [0, 100]");
+  require(finite_in(texture_ring_weight, 0, 1), "deform options: texture_ring_weight = ", texture_ring_weight,
+          " must be in [0, 1]");
   require(texture_start >= 0, "deform options: texture_start = ", texture_start, " must be >= 0");
   require(finite_in(max_move_px, 1e-6, 100), "deform options: max_move_px = ", max_move_px, " must be in (0, 100]");
   require(finite_in(min_edge_px, 0, 1e6) && finite_in(max_edge_px, 0, 1e6) && max_edge_px > 2 * min_edge_px,
@@ -73,6 +83,8 @@ Options Options::from_params(const Params& p) {
   o.w_texture = p.d("deform.w_texture");
   o.texture_range_px = p.d("deform.texture_range_px");
   o.texture_step_px = p.d("deform.texture_step_px");
+  o.texture_far_px = p.d("deform.texture_far_px");
+  o.texture_far_min_score = p.d("deform.texture_far_min_score");
   o.texture_coarse_px = p.d("deform.texture_coarse_px");
   o.texture_min_score = p.d("deform.texture_min_score");
   o.texture_min_contrast = p.d("deform.texture_min_contrast");
@@ -85,6 +97,8 @@ Options Options::from_params(const Params& p) {
   o.texture_settle_px = p.d("deform.texture_settle_px");
   o.texture_recheck = p.i("deform.texture_recheck");
   o.texture_start = p.i("deform.texture_start");
+  o.texture_ring_weight = p.d("deform.texture_ring_weight");
+  o.texture_sag_rounds = p.i("deform.texture_sag_rounds");
   o.occlusion = p.b("deform.occlusion");
   o.max_move_px = p.d("deform.max_move_px");
   o.max_edge_px = p.d("deform.max_edge_px");

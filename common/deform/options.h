@@ -13,7 +13,7 @@ struct Options {
   // smoothness (non-shrinking): tangential umbrella + small normal umbrella + normal bi-Laplacian
   double smooth_tangent = 0.5;    // weight of the umbrella's tangential component (mesh relaxation)
   double smooth_normal = 0.05;    // weight of the umbrella's normal component (shrinks: keep small)
-  double smooth_bilaplacian = 0.1;  // weight of the bi-Laplacian's normal component (does not shrink spheres); < 0.5
+  double smooth_bilaplacian = 0.4;  // weight of the bi-Laplacian's normal component (does not shrink spheres); < 0.5
   // silhouette force
   double w_silhouette = 0.5;      // fraction of the silhouette correction applied per iteration
   double rim_cos = 0.5;           // a vertex can be on a view's rim when |n . ray| < rim_cos
@@ -23,6 +23,8 @@ struct Options {
   // texture force
   double w_texture = 0.5;         // fraction of the texture correction applied per iteration
   double texture_range_px = 5.0;  // offsets along the normal: -range..+range pixels
+  double texture_far_px = 5.0;    // ... and -far..far when that shows no clear peak (= range: never)
+  double texture_far_min_score = 0.9;  // ... where the peak must reach this score
   double texture_coarse_px = 1.0; // ... first every this many pixels
   double texture_step_px = 0.5;   // ... refined down to steps of this (then a parabola)
   double texture_min_score = 0.5; // the peak score must reach this
@@ -35,6 +37,9 @@ struct Options {
   double texture_baseline_max_deg = 40;  // ... and at most this far
   double texture_settle_px = 0.25;  // a vertex whose peak is nearer than this has settled: probed again only ...
   int texture_recheck = 3;        // ... every this many texture iterations (1: every vertex every iteration)
+  int texture_sag_rounds = 8;     // offsets corrected for the surface's sag under the plane patch, curvature
+                                  // smoothed over this many 1-rings (0: no correction)
+  double texture_ring_weight = 0.5; // the texture move blends the 1-ring's applied offsets with this weight
   int texture_start = 2;          // first iteration with the texture force (smooth the lattice facets first)
   bool occlusion = true;          // drop views in which the vertex is occluded from its patches
   // step control and remeshing

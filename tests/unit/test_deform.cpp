@@ -274,6 +274,11 @@ TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   EXPECT_EQ(o.iterations, Options{}.iterations);
   EXPECT_DOUBLE_EQ(o.max_edge_px, 2.0);
   EXPECT_DOUBLE_EQ(o.min_edge_px, Options{}.min_edge_px);  // params/defaults.json and options.h agree
+  EXPECT_DOUBLE_EQ(o.smooth_bilaplacian, Options{}.smooth_bilaplacian);
+  EXPECT_DOUBLE_EQ(o.texture_ring_weight, Options{}.texture_ring_weight);
+  EXPECT_DOUBLE_EQ(o.texture_far_px, Options{}.texture_far_px);
+  EXPECT_DOUBLE_EQ(o.texture_far_min_score, Options{}.texture_far_min_score);
+  EXPECT_EQ(o.texture_sag_rounds, Options{}.texture_sag_rounds);
   Options bad = o;
   bad.min_edge_px = 1.5;
   EXPECT_THROW(bad.check(), Error);
@@ -282,6 +287,15 @@ TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   EXPECT_THROW(bad.check(), Error);
   bad = o;
   bad.texture_step_px = 0;
+  EXPECT_THROW(bad.check(), Error);
+  bad = o;
+  bad.texture_far_px = bad.texture_range_px - 1;  // the wide search must not be narrower
+  EXPECT_THROW(bad.check(), Error);
+  bad = o;
+  bad.texture_sag_rounds = -1;
+  EXPECT_THROW(bad.check(), Error);
+  bad = o;
+  bad.texture_ring_weight = 1.5;
   EXPECT_THROW(bad.check(), Error);
   bad = o;
   bad.texture_mu = 8;  // even
