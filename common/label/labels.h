@@ -118,7 +118,7 @@ struct Options {
   // In scenes without any silhouette: points of Q lying in front of the per-pixel
   // median depth of the points consistent in a view (by depth_margin), in at least this many
   // views, are dropped (0 = off). See in_front_of_median in labels.cpp.
-  int median_free_views = 1;
+  int median_free_views = 3;
   int median_passes = 1;  // the median test repeated on the points it keeps
   // When Q gives no interior cell (and hides no cell that is only too deep: a cup's unseen
   // cavity, which the hull core would fill) and the scene has silhouettes, cells whose whole
