@@ -163,6 +163,17 @@ DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell) {
   return d;
 }
 
+// The points of q whose drop flag is 0, in order.
+QPoints keep_points(const QPoints& q, const std::vector<std::uint8_t>& drop) {
+  QPoints out;
+  for (std::int64_t p = 0; p < q.size(); ++p) {
+    if (drop[p]) continue;
+    const std::vector<std::int32_t> cams(q.cams.begin() + q.cam_offsets[p], q.cams.begin() + q.cam_offsets[p + 1]);
+    out.add(q.pos(p), q.nrm(p), q.score[p], cams, q.face[p]);
+  }
+  return out;
+}
+
 // Points of q that lie in free space seen by other points: in at least `views_needed` views
 // the point is in front of q's visible side (the `near` map, by `margin`). A point on the
 // surface is never in front of what a camera sees there; a false match floating in the air
@@ -172,7 +183,7 @@ DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell) {
 QPoints drop_points_in_free_space(const Scene& s, const QPoints& q, const DepthMaps& d, double margin, int views_needed,
                                   std::int64_t* dropped) {
   const std::int64_t P = q.size();
-  std::vector<std::uint8_t> keep(P, 1);
+  std::vector<std::uint8_t> drop(P, 0);
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int64_t p = 0; p < P; ++p) {
     const Eigen::Vector3d X = q.pos(p);
@@ -184,20 +195,10 @@ QPoints drop_points_in_free_space(const Scene& s, const QPoints& q, const DepthM
       const float dn = d.near[v].at<float>(w, u);
       free_space += dn != 0 && z < dn - margin;
     }
-    keep[p] = free_space < views_needed;
+    drop[p] = free_space >= views_needed;
   }
-  QPoints out;
-  std::int64_t n = 0;
-  for (std::int64_t p = 0; p < P; ++p) {
-    if (!keep[p]) {
-      ++n;
-      continue;
-    }
-    const std::vector<std::int32_t> cams(q.cams.begin() + q.cam_offsets[p], q.cams.begin() + q.cam_offsets[p + 1]);
-    out.add(q.pos(p), q.nrm(p), q.score[p], cams, q.face[p]);
-  }
-  if (dropped) *dropped = n;
-  return out;
+  if (dropped) *dropped = std::count(drop.begin(), drop.end(), std::uint8_t{1});
+  return keep_points(q, drop);
 }
 
 // Per view, the per-pixel median depth of the splats (radius about `cell`) of the points of
@@ -256,16 +257,6 @@ std::vector<std::uint8_t> in_front_of_median(const Scene& s, const QPoints& q, d
     drop[p] = count >= views_needed;
   }
   return drop;
-}
-
-QPoints keep_points(const QPoints& q, const std::vector<std::uint8_t>& drop) {
-  QPoints out;
-  for (std::int64_t p = 0; p < q.size(); ++p) {
-    if (drop[p]) continue;
-    const std::vector<std::int32_t> cams(q.cams.begin() + q.cam_offsets[p], q.cams.begin() + q.cam_offsets[p + 1]);
-    out.add(q.pos(p), q.nrm(p), q.score[p], cams, q.face[p]);
-  }
-  return out;
 }
 
 double percentile(std::vector<std::int32_t> v, double pct) {
@@ -379,15 +370,9 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   QPoints q_core;
   if (o.hull_core_px > 0) {
     dist = silhouette_distances(s);
-    for (std::int64_t p = 0; p < q_in.size(); ++p) {
-      if (in_hull_core(s, dist, q_in.pos(p), o.hull_core_px)) {
-        ++r.q_dropped;
-        continue;
-      }
-      const std::vector<std::int32_t> cams(q_in.cams.begin() + q_in.cam_offsets[p],
-                                           q_in.cams.begin() + q_in.cam_offsets[p + 1]);
-      q_core.add(q_in.pos(p), q_in.nrm(p), q_in.score[p], cams, q_in.face[p]);
-    }
+    std::vector<std::uint8_t> drop(q_in.size());
+    for (std::int64_t p = 0; p < q_in.size(); ++p) r.q_dropped += drop[p] = in_hull_core(s, dist, q_in.pos(p), o.hull_core_px);
+    q_core = keep_points(q_in, drop);
   }
   const QPoints& q_hull_in = o.hull_core_px > 0 ? q_core : q_in;
   r.label.assign(C, 0);
@@ -407,6 +392,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       if (!est[v].empty()) s_est.sil[v] = s_all.sil[v] = est[v], ++r.q_sil_views;
   }
   if (r.q_sil_views > 0) {
+    std::vector<std::uint8_t> drop(q_hull_in.size());
     for (std::int64_t p = 0; p < q_hull_in.size(); ++p) {
       bool inside = true;
       for (int v = 0; v < s.size() && inside; ++v) {
@@ -415,14 +401,9 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
         if (s_est.has_silhouette(v) && nearest_pixel(s.cams[v], q_hull_in.pos(p), z, u, w))
           inside = s_est.sil[v].at<std::uint8_t>(w, u) != 0;
       }
-      if (!inside) {
-        ++r.q_outside_hull;
-        continue;
-      }
-      const std::vector<std::int32_t> cams(q_hull_in.cams.begin() + q_hull_in.cam_offsets[p],
-                                           q_hull_in.cams.begin() + q_hull_in.cam_offsets[p + 1]);
-      q_hull.add(q_hull_in.pos(p), q_hull_in.nrm(p), q_hull_in.score[p], cams, q_hull_in.face[p]);
+      r.q_outside_hull += drop[p] = !inside;
     }
+    q_hull = keep_points(q_hull_in, drop);
   }
   const QPoints& q_hull_out = r.q_sil_views > 0 ? q_hull : q_hull_in;
   // Points in front of the median depth of Q in median_free_views views (only in scenes
