@@ -525,7 +525,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     }
     r.hidden_depth[c] = shallowest < 0 ? -1.0f : static_cast<float>(shallowest / cell);
     if (seen > 0) {
-      const double out = std::min(1.0, static_cast<double>(outside_views) / o.free_views);
+      const double out = std::min(1.0, o.free_weight * outside_views / seen);
       r.outside_evidence[c] = static_cast<float>(out);
       r.inside_evidence[c] = static_cast<float>((1.0 - out) * sandwiched / seen);
     }

@@ -75,6 +75,12 @@ struct Options {
   double vote_offset = 1.0;     // rays start this many finest cell sizes in front of a point
   double depth_margin = 2.0;    // occlusion / free-space margin, in finest cell sizes
   int free_views = 3;           // free space seen in this many views is sure (see below)
+  // Soft outside evidence (the cut's visibility term): a view that sees through the cell
+  // (or beyond Q's far side) weighs this many views that hide it. Not saturating at
+  // free_views: with 48 views, cells just under the surface are seen "free" in 1-4 views
+  // where Q has a gap, and full outside evidence there cost the 48-view torus 0.4 mm at the
+  // first cut (docs/architecture.md, "Free space outranks occlusion").
+  double free_weight = 2;
   // Interior by "hidden behind Q" also needs Q's visible side close in front: in at least
   // min_occluding_views views the cell's centre lies at most this many finest cell sizes
   // behind the visible points (<= 0: no limit, the rule of before). It counts finest cells
@@ -133,7 +139,8 @@ struct Result {
   std::vector<std::uint8_t> reason;  // Reason
   std::vector<std::int32_t> votes;
   // Soft evidence per free cell, in [0, 1], for the cut's visibility term: outside =
-  // min(1, views where the cell is free space or beyond Q's far side / free_views);
+  // min(1, free_weight x views where the cell is free space or beyond Q's far side / views
+  // where it projects);
   // inside = (1 - outside) x the share of the views (where the cell projects) in which it
   // lies between Q's visible and far sides.
   std::vector<float> inside_evidence, outside_evidence;

@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
     o.vote_offset = ctx.params.d("label.vote_offset");
     o.depth_margin = ctx.params.d("label.depth_margin");
     o.free_views = ctx.params.i("label.free_views");
+    o.free_weight = ctx.params.d("label.free_weight");
     o.hull_core_px = ctx.params.d("label.hull_core_px");
     o.interior_depth = ctx.params.d("label.interior_depth");
     o.drop_free_points = ctx.params.b("label.drop_free_points");

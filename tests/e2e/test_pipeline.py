@@ -69,10 +69,14 @@ def main():
         chk = e["reconstruction"]["check"]
         print(f"{surf}: accuracy90 {acc * 1000:.3f} mm, completeness {comp * 100:.2f} %, "
               f"components {chk['num_components']}, closed {chk['closed']}")
-        # the small CI scene: 16 views of 320x240, cells of ~2 px at level 3 (~0.8 mm)
+        # the small CI scene: 16 views of 320x240, cells of ~2 px at level 3 (~0.8 mm).
+        # Measured at session 6: cut1 1.19 mm / 96.96 %, cut2 0.83 / 97.75, final 0.41 / 99.17;
+        # the bounds leave about 20 % (they were 2 mm / 90 % for all three, loose enough to let
+        # a 0.4 mm regression of the first cut pass unnoticed).
+        max_acc, min_comp = {"cut1": (1.4e-3, 0.955), "cut2": (1.0e-3, 0.965), "final": (0.5e-3, 0.985)}[surf]
         expect(chk["closed"] and chk["edge_manifold"], f"{surf} is closed and edge-manifold")
-        expect(comp >= 0.90, f"{surf} completeness {comp:.3f} >= 0.90")
-        expect(acc <= 0.002, f"{surf} accuracy {acc * 1000:.2f} mm <= 2 mm")
+        expect(comp >= min_comp, f"{surf} completeness {comp:.4f} >= {min_comp}")
+        expect(acc <= max_acc, f"{surf} accuracy {acc * 1000:.3f} mm <= {max_acc * 1000:.1f} mm")
         big = [c for c in chk["components"] if c["faces"] > 0.05 * chk["faces"]]
         expect(len(big) == 1 and big[0]["genus"] == 1, f"{surf}: one large component of genus 1 (torus), got {[(c['faces'], c['genus']) for c in chk['components']]}")
     labels = os.path.join(run, "labels.h5")
