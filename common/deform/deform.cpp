@@ -24,6 +24,7 @@ namespace tetmvs::deform {
 namespace {
 
 constexpr int kUntangleRounds = 8;
+constexpr int kFoldRounds = 4;
 
 // Wall and process CPU seconds (all threads) of the parts of an iteration (logged;
 // bench/deform_parts.py sums them).
@@ -277,6 +278,25 @@ std::vector<std::pair<int, int>> untangle(std::vector<Eigen::Vector3d>& V, const
   return pairs;
 }
 
+// Fold-overs that untangling leaves (sub-pixel pleats within one vertex's fan: the two
+// faces' centroids a fraction of a pixel apart, normals nearly opposite; smoothing moves
+// the whole pleat but does not open it) are removed by collapsing an edge of each
+// intersecting pair (collapse_folds), then untangling what the collapses made; returns the
+// number of collapses.
+std::int64_t unfold(RemeshMesh& M, std::vector<std::pair<int, int>>& current) {
+  std::int64_t total = 0;
+  for (int r = 0; r < kFoldRounds && !current.empty(); ++r) {
+    const std::vector<Eigen::Vector3d> V0 = M.V;
+    const std::vector<Eigen::Vector3i> F0 = M.F;
+    const std::int64_t n = collapse_folds(M, current);
+    if (n == 0) break;
+    total += n;
+    auto after = intersections_after_remesh(V0, F0, current, M.V, M.F);
+    current = untangle(M.V, M.F, std::move(after), kUntangleRounds);
+  }
+  return total;
+}
+
 }  // namespace
 
 Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt, const photo::Options& popt) {
@@ -308,8 +328,9 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
   std::vector<std::pair<int, int>> current = self_intersections(M.V, M.F);  // of the current mesh
   res.start_intersections = static_cast<std::int64_t>(current.size());
   current = untangle(M.V, M.F, current, kUntangleRounds);
+  const std::int64_t start_folds = unfold(M, current);
   info("deform: ", M.V.size(), " vertices, ", M.F.size(), " faces, ", res.start_intersections,
-       " intersecting triangle pairs at the start, ", scene.num_silhouettes(), " of ", nc, " views with silhouettes");
+       " intersecting triangle pairs at the start (", start_folds, " fold-over collapses), ", scene.num_silhouettes(), " of ", nc, " views with silhouettes");
 
   for (int it = 0; it < opt.iterations; ++it) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -468,6 +489,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
     auto after = intersections_after_remesh(V_moved, F_moved, pairs, M.V, M.F);
     pt.lap(kPartRemeshCheck);
     current = untangle(M.V, M.F, std::move(after), kUntangleRounds);
+    const std::int64_t folds = unfold(M, current);
     pt.lap(kPartUntangle);
     st.part_seconds = pt.s;
     st.part_cpu_seconds = pt.cpu;
@@ -478,7 +500,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
     info("deform: iteration ", it, ": move ", st.mean_move_px, " px (max ", st.max_move_px, "), texture ",
          st.mean_texture_score, " (", 100 * st.texture_probed, "% probed, ", 100 * st.texture_applied, "% moved, |offset| ", st.mean_texture_offset_px,
          " px), rim ", st.rim_vertices, ", IoU ", st.silhouette_iou, ", ", st.vertices, " v ", st.faces, " f, +",
-         st.splits, " -", st.collapses, " ~", st.flips, ", reduced ", st.reduced_vertices, ", intersections ",
+         st.splits, " -", st.collapses, " ~", st.flips, ", folds -", folds, ", reduced ", st.reduced_vertices, ", intersections ",
          st.intersections, ", ", st.seconds, " s");
     info("deform: iteration ", it, " seconds (wall/cpu): ", part_summary(st.part_seconds, st.part_cpu_seconds));
     res.iterations.push_back(st);

@@ -451,7 +451,7 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
       // profile drops by the contrast on both sides of it (-1: no score at all).
       int best = -1;
       bool clear = false;
-      const auto find_peak = [&](int j0, int j1, double min_score) {
+      const auto find_peak = [&](int j0, int j1, double min_score, double min_contrast) {
         best = -1;
         for (int j = j0; j <= j1; ++j)
           if (prof[j] != photo::kNoScore && (best < 0 || prof[j] > prof[best])) best = j;
@@ -462,15 +462,16 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
         for (int j = best + 1; j <= j1; ++j)
           if (prof[j] != photo::kNoScore) lo_right = std::min(lo_right, prof[j]);
         const float contrast = prof[best] - std::max(lo_left, lo_right);
-        clear = prof[best] >= min_score && contrast >= opt.texture_min_contrast;
+        clear = prof[best] >= min_score && contrast >= min_contrast;
       };
       for (int j = Jf - Jc; j <= Jf + Jc; ++j) prof[j] = get((j - Jf) << L);
-      find_peak(Jf - Jc, Jf + Jc, opt.texture_min_score);
+      find_peak(Jf - Jc, Jf + Jc, opt.texture_min_score, opt.texture_min_contrast);
       if (!clear && Jf > Jc) {
         // no clear peak within -range..range (none, or at one of its ends): look farther
         for (int j = 0; j < Jf - Jc; ++j) prof[j] = get((j - Jf) << L);
         for (int j = Jf + Jc + 1; j < nco; ++j) prof[j] = get((j - Jf) << L);
-        find_peak(0, nco - 1, std::max(opt.texture_min_score, opt.texture_far_min_score));
+        find_peak(0, nco - 1, std::max(opt.texture_min_score, opt.texture_far_min_score),
+                  std::max(opt.texture_min_contrast, opt.texture_far_min_contrast));
         probes[v].far = true;
       }
       if (best < 0) continue;

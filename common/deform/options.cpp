@@ -30,6 +30,8 @@ void Options::check() const {
           " must be in [texture_range_px = ", texture_range_px, ", 100]");
   require(finite_in(texture_far_min_score, -1, 1), "deform options: texture_far_min_score = ", texture_far_min_score,
           " must be in [-1, 1]");
+  require(finite_in(texture_far_min_contrast, 0, 2), "deform options: texture_far_min_contrast = ",
+          texture_far_min_contrast, " must be in [0, 2]");
   require(texture_far_px / texture_coarse_px <= 200, "deform options: texture_far_px / texture_coarse_px = ",
           texture_far_px / texture_coarse_px, " offsets per side; at most 200");
   require(texture_range_px / texture_coarse_px <= 200, "deform options: texture_range_px / texture_coarse_px = ",
@@ -85,6 +87,7 @@ Options Options::from_params(const Params& p) {
   o.texture_step_px = p.d("deform.texture_step_px");
   o.texture_far_px = p.d("deform.texture_far_px");
   o.texture_far_min_score = p.d("deform.texture_far_min_score");
+  o.texture_far_min_contrast = p.d("deform.texture_far_min_contrast");
   o.texture_coarse_px = p.d("deform.texture_coarse_px");
   o.texture_min_score = p.d("deform.texture_min_score");
   o.texture_min_contrast = p.d("deform.texture_min_contrast");

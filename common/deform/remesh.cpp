@@ -23,6 +23,19 @@ int opposite(const Eigen::Vector3i& t, int a, int b) {
     if (t[k] != a && t[k] != b) return t[k];
   return -1;
 }
+// Number of common neighbours of a and b (the link condition of collapsing edge ab on a
+// closed manifold: exactly the two opposite corners).
+int common_neighbours(const Topology& topo, int a, int b) {
+  int common = 0;
+  auto i = topo.nbr.begin() + topo.nbr_start[a], ie = topo.nbr.begin() + topo.nbr_start[a + 1];
+  auto j = topo.nbr.begin() + topo.nbr_start[b], je = topo.nbr.begin() + topo.nbr_start[b + 1];
+  while (i != ie && j != je) {
+    if (*i < *j) ++i;
+    else if (*j < *i) ++j;
+    else { ++common; ++i; ++j; }
+  }
+  return common;
+}
 }  // namespace
 
 std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
@@ -149,18 +162,7 @@ std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ra
     const int c = opposite(m.F[f1], a, b), d = opposite(m.F[f2], a, b);
     if (c < 0 || d < 0 || c == d) continue;
     if (topo.degree(c) <= 3 || topo.degree(d) <= 3) continue;
-    // link condition: common neighbours of a and b are exactly {c, d}
-    int common = 0;
-    {
-      auto i = topo.nbr.begin() + topo.nbr_start[a], ie = topo.nbr.begin() + topo.nbr_start[a + 1];
-      auto j = topo.nbr.begin() + topo.nbr_start[b], je = topo.nbr.begin() + topo.nbr_start[b + 1];
-      while (i != ie && j != je) {
-        if (*i < *j) ++i;
-        else if (*j < *i) ++j;
-        else { ++common; ++i; ++j; }
-      }
-    }
-    if (common != 2) continue;
+    if (common_neighbours(topo, a, b) != 2) continue;  // link condition: exactly {c, d}
     const Eigen::Vector3d p = 0.5 * (m.V[a] + m.V[b]);
     const double fpp = 0.5 * (m.fp[a] + m.fp[b]);
     bool ok = true;
@@ -259,6 +261,115 @@ std::int64_t flip_edges(RemeshMesh& m, double max_dihedral_deg) {
     ++degree[d];
     ++count;
   }
+  return count;
+}
+
+}  // namespace tetmvs::deform
+
+namespace tetmvs::deform {
+
+std::int64_t collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>>& pairs) {
+  if (pairs.empty()) return 0;
+  const int nv = static_cast<int>(m.V.size()), nf = static_cast<int>(m.F.size());
+  const Topology topo = build_topology(m.F, nv);
+  // candidate edges: those at a corner of an intersecting face, shortest first (in world
+  // units: the fold is sub-pixel, the edge of a vertex pushed past its neighbour is short
+  // and need not belong to the intersecting faces)
+  std::vector<int> cand;
+  for (const auto& p : pairs)
+    for (int f : {p.first, p.second})
+      for (int k = 0; k < 3; ++k) {
+        const int v = m.F[f][k];
+        for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) cand.push_back(topo.find_edge(v, topo.nbr[q]));
+      }
+  std::sort(cand.begin(), cand.end());
+  cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+  const auto len = [&](int e) { return (m.V[topo.edge_v[e][0]] - m.V[topo.edge_v[e][1]]).squaredNorm(); };
+  std::sort(cand.begin(), cand.end(), [&](int x, int y) { return len(x) < len(y) || (len(x) == len(y) && x < y); });
+  std::vector<char> locked(nv, 0), face_dead(nf, 0), pair_done(pairs.size(), 0);
+  // the pairs at each vertex (a corner of either face), compressed rows
+  std::vector<int> vp_start(nv + 1, 0), vp;
+  for (const auto& p : pairs)
+    for (int f : {p.first, p.second})
+      for (int k = 0; k < 3; ++k) ++vp_start[m.F[f][k] + 1];
+  for (int v = 0; v < nv; ++v) vp_start[v + 1] += vp_start[v];
+  vp.resize(vp_start[nv]);
+  {
+    std::vector<int> fill(vp_start.begin(), vp_start.end() - 1);
+    for (size_t i = 0; i < pairs.size(); ++i)
+      for (int f : {pairs[i].first, pairs[i].second})
+        for (int k = 0; k < 3; ++k) vp[fill[m.F[f][k]]++] = static_cast<int>(i);
+  }
+  std::vector<int> remap(nv);
+  std::iota(remap.begin(), remap.end(), 0);
+  std::int64_t count = 0;
+  for (int e : cand) {
+    if (topo.edge_count[e] != 2) continue;
+    const int a = topo.edge_v[e][0], b = topo.edge_v[e][1];
+    if (locked[a] || locked[b]) continue;
+    const int f1 = topo.edge_f[e][0], f2 = topo.edge_f[e][1];
+    const int c = opposite(m.F[f1], a, b), d = opposite(m.F[f2], a, b);
+    if (c < 0 || d < 0 || c == d) continue;
+    if (topo.degree(a) <= 3 || topo.degree(b) <= 3 || topo.degree(c) <= 3 || topo.degree(d) <= 3) continue;
+    if (common_neighbours(topo, a, b) != 2) continue;
+    // one collapse per intersecting pair: skip edges whose ends touch no pair left
+    std::vector<int> touched;
+    for (int end : {a, b})
+      for (int q = vp_start[end]; q < vp_start[end + 1]; ++q)
+        if (!pair_done[vp[q]]) touched.push_back(vp[q]);
+    if (touched.empty()) continue;
+    // The merged vertex goes where its fan is flattest: at a, at b or at the midpoint,
+    // whichever maximises the smallest cosine between a surrounding triangle's normal and
+    // the fan's mean normal before the collapse (a vertex pushed past its neighbour folds
+    // its fan over the neighbour's: merged at the midpoint the fold would stay). No
+    // triangle may become degenerate.
+    Eigen::Vector3d nref = Eigen::Vector3d::Zero();
+    for (int end : {a, b})
+      for (int q = topo.vf_start[end]; q < topo.vf_start[end + 1]; ++q) {
+        const int f = topo.vf[q];
+        if (f != f1 && f != f2) nref += tri_cross(m.V, m.F[f][0], m.F[f][1], m.F[f][2]);
+      }
+    if (!(nref.norm() > 0)) continue;
+    nref.normalize();
+    const Eigen::Vector3d options[3] = {0.5 * (m.V[a] + m.V[b]), m.V[a], m.V[b]};
+    double best = -2;
+    Eigen::Vector3d p = options[0];
+    for (const Eigen::Vector3d& x : options) {
+      double worst = 2;
+      for (int end : {a, b})
+        for (int q = topo.vf_start[end]; q < topo.vf_start[end + 1]; ++q) {
+          const int f = topo.vf[q];
+          if (f == f1 || f == f2) continue;
+          const auto& t = m.F[f];
+          Eigen::Vector3d P[3];
+          for (int k = 0; k < 3; ++k) P[k] = (t[k] == a || t[k] == b) ? x : m.V[t[k]];
+          const Eigen::Vector3d n = (P[1] - P[0]).cross(P[2] - P[0]);
+          const double l2 = std::max({(P[1] - P[0]).squaredNorm(), (P[2] - P[1]).squaredNorm(), (P[0] - P[2]).squaredNorm()});
+          worst = std::min(worst, n.norm() > 1e-9 * l2 ? n.normalized().dot(nref) : -2.0);
+        }
+      if (worst > best) best = worst, p = x;
+    }
+    if (!(best > -1.5)) continue;
+    for (int i : touched) pair_done[i] = 1;
+    m.V[a] = p;
+    m.fp[a] = 0.5 * (m.fp[a] + m.fp[b]);
+    if (!m.settled.empty()) m.settled[a] = 0;
+    if (!m.drift.empty()) m.drift[a] = 0.f;
+    remap[b] = a;
+    face_dead[f1] = face_dead[f2] = 1;
+    for (int end : {a, b}) {
+      locked[end] = 1;
+      for (int q = topo.nbr_start[end]; q < topo.nbr_start[end + 1]; ++q) locked[topo.nbr[q]] = 1;
+    }
+    ++count;
+  }
+  if (count == 0) return 0;
+  std::vector<Eigen::Vector3i> F;
+  F.reserve(nf);
+  for (int f = 0; f < nf; ++f)
+    if (!face_dead[f]) F.emplace_back(remap[m.F[f][0]], remap[m.F[f][1]], remap[m.F[f][2]]);
+  m.F.swap(F);
+  compact(m);
   return count;
 }
 

@@ -8,6 +8,7 @@
 #pragma once
 #include <Eigen/Dense>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace tetmvs::deform {
@@ -46,6 +47,15 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px);
 void compact(RemeshMesh& m);
 
 std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ratio, double max_px);
+
+// Removes fold-overs: for each listed pair of intersecting faces (indices into m.F), the
+// shortest edge at a corner of the two faces whose collapse keeps the mesh closed and
+// manifold (link condition, degrees > 3, no degenerate triangle) is collapsed, the merged
+// vertex placed at either end or the midpoint, where the surrounding triangles turn least
+// from the fan's mean normal; one collapse per pair and none in the 1-ring of another. No
+// turn limit (the fold is the turn). deform uses it on the sub-pixel fold-overs within one
+// vertex's fan that smoothing does not unfold. Returns the number of collapses.
+std::int64_t collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>>& pairs);
 
 // Flips edges whose two opposite angles sum to more than pi (Delaunay criterion), when
 // the two triangles are within max_dihedral_deg of coplanar, the new edge does not exist

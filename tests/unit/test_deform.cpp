@@ -278,6 +278,8 @@ TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   EXPECT_DOUBLE_EQ(o.texture_ring_weight, Options{}.texture_ring_weight);
   EXPECT_DOUBLE_EQ(o.texture_far_px, Options{}.texture_far_px);
   EXPECT_DOUBLE_EQ(o.texture_far_min_score, Options{}.texture_far_min_score);
+  EXPECT_DOUBLE_EQ(o.texture_far_min_contrast, Options{}.texture_far_min_contrast);
+  EXPECT_GT(o.texture_far_px, o.texture_range_px);  // the wide search is on (issue #12)
   EXPECT_EQ(o.texture_sag_rounds, Options{}.texture_sag_rounds);
   Options bad = o;
   bad.min_edge_px = 1.5;
@@ -290,6 +292,9 @@ TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   EXPECT_THROW(bad.check(), Error);
   bad = o;
   bad.texture_far_px = bad.texture_range_px - 1;  // the wide search must not be narrower
+  EXPECT_THROW(bad.check(), Error);
+  bad = o;
+  bad.texture_far_min_contrast = -0.1;
   EXPECT_THROW(bad.check(), Error);
   bad = o;
   bad.texture_sag_rounds = -1;
@@ -312,4 +317,33 @@ TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   bad = o;
   bad.texture_recheck = 0;
   EXPECT_THROW(bad.check(), Error);
+}
+
+TEST(DeformRemesh, CollapseFoldsRemovesAFoldOverInAVertexFan) {
+  // A vertex pushed past one of its neighbours (onto the tangent plane there):
+  // its fan folds over that neighbour's, a sub-pixel pleat of triangles sharing a vertex
+  // like those deform's smoothing left on dinoRing. Collapsing the short edge removes it.
+  const TriMesh s = synth::make_sphere(0.2);
+  RemeshMesh m = from_trimesh(s, 0.1);
+  const Topology topo = build_topology(m.F, static_cast<int>(m.V.size()));
+  const int v = 0, u = topo.nbr[topo.nbr_start[0]];
+  m.V[v] = m.V[u] + 0.3 * (m.V[u] - m.V[v]);
+  const auto before = self_intersections(m.V, m.F);
+  ASSERT_FALSE(before.empty());
+  int sharing = 0;  // pairs of faces with a common vertex: the fan fold-over
+  for (const auto& p : before) {
+    int c = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) c += m.F[p.first][i] == m.F[p.second][j];
+    sharing += c == 1;
+  }
+  EXPECT_GT(sharing, 0);
+  const size_t nv0 = m.V.size();
+  EXPECT_GE(collapse_folds(m, before), 1);
+  EXPECT_EQ(m.V.size(), nv0 - 1);  // one collapse for the whole pleat
+  EXPECT_EQ(m.fp.size(), m.V.size());
+  EXPECT_TRUE(self_intersections(m.V, m.F).empty());
+  expect_closed_genus(to_trimesh(m), 0, "after collapsing the fold");
+  // nothing to do on a clean mesh
+  EXPECT_EQ(collapse_folds(m, {}), 0);
 }
