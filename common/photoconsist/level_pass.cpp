@@ -90,7 +90,8 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
   R.crossing.assign(T, 0);
   R.reused.assign(T, 0);
   R.best_score.assign(T, photo::kNoScore);
-  std::vector<std::int64_t> scored(T, 0), best_index(T, -1), hidden_pts(T, 0), rescored(T, 0);
+  std::vector<std::int64_t> scored(T, 0), best_index(T, -1), hidden_pts(T, 0), rescored(T, 0), hull_dropped(T, 0),
+      hull_added(T, 0);
   const OcclusionMaps* occl = in.occl && !in.occl->empty() ? in.occl : nullptr;
   const OcclusionMaps* occl_prev = in.occl_prev && !in.occl_prev->empty() ? in.occl_prev : nullptr;
   require(!occl_prev || occl_prev->num_views() == views.size(), "photoconsist: previous occlusion maps of ",
@@ -124,6 +125,29 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
           for (std::size_t p = 0; p < index.size(); ++p) w.codes[p] = pc[index[p]];
         }
       }
+      // The cached codes were made with another hull (recheck_hull): apply this one.
+      if (w.reused && in.recheck_hull) {
+        const Eigen::Vector3d nf = (b - a).cross(c - a);
+        const bool all_outside = hull.triangle_outside(a, b, c);
+        std::int64_t p = 0;
+        for (int j = 0; j <= w.n; ++j)
+          for (int i = 0; i + j <= w.n; ++i, ++p) {
+            const bool sample = code_is_sample(w.codes[p]);
+            if (all_outside && !sample) continue;
+            const Eigen::Vector3d X = lattice_point(a, b, c, w.n, i, j);
+            const bool in_hull = !all_outside && hull.inside(X) && !hull.in_core(X);
+            if (sample && !in_hull) {
+              w.codes[p] = kCodeOutside;
+              ++hull_dropped[t];
+            } else if (!sample && in_hull) {
+              scratch.hidden = nullptr;
+              if (occl && occl->hidden_views(views, X, mask.data()) > 0) scratch.hidden = mask.data(), ++hidden_pts[t];
+              w.codes[p] = encode_point(photo::score_point(views, X, nf, opts.line, scratch), opts.line);
+              scratch.hidden = nullptr;
+              ++hull_added[t];
+            }
+          }
+      }
       // A reused code was scored with the previous level's occluders (or none): score
       // again the points whose hidden views changed.
       if (w.reused && (occl || occl_prev)) {
@@ -147,6 +171,7 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
           }
         scored[t] = rescored[t];
       }
+      if (w.reused) scored[t] += hull_added[t];
       if (!w.reused) {
         const int n = reusable_divisions(need);
         w.n = n;
@@ -198,6 +223,8 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
     R.reused_faces += R.reused[t];
     R.hidden_points += hidden_pts[t];
     R.rescored_points += rescored[t];
+    R.hull_dropped_points += hull_dropped[t];
+    R.hull_added_points += hull_added[t];
     if (!R.crossing[t]) continue;
     ++R.crossing_faces;
     for (int k = 0; k < 2; ++k) {

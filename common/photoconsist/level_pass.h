@@ -50,6 +50,8 @@ struct LevelResult {
   std::int64_t active_cells = 0;
   std::int64_t hidden_points = 0;    // scored points hidden in at least one view (occlusion)
   std::int64_t rescored_points = 0;  // cached points scored again (their hidden views changed)
+  std::int64_t hull_dropped_points = 0;  // recheck_hull: cached samples now outside the hull
+  std::int64_t hull_added_points = 0;    // recheck_hull: cached outside points now inside, scored
 };
 
 struct LevelInput {
@@ -64,6 +66,10 @@ struct LevelInput {
   // previous one), or nullptr (none: level 1). A reused code is scored again only where
   // the point's hidden views differ between occl_prev and occl.
   const OcclusionMaps* occl_prev = nullptr;
+  // The hull differs from the one the cached codes were made with (photo.q_hull: estimated
+  // from Q, which grows per level): reused codes are checked against `hull` point by point,
+  // samples now outside become outside, outside points now inside are scored.
+  bool recheck_hull = false;
   bool keep_all = false;            // cache every tested face (inspection), not only faces of active cells
   bool progress = true;
 };

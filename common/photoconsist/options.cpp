@@ -29,6 +29,13 @@ void Options::check() const {
           " must be > 0");
   require(hull_margin_px >= 0 && hull_margin_px <= 100, "photoconsist: photo.hull_margin_px = ",
           hull_margin_px, " must lie in [0, 100]");
+  require(q_hull_close_px >= 0 && q_hull_close_px <= 100 && q_hull_margin_px >= 0 && q_hull_margin_px <= 100,
+          "photoconsist: photo.q_hull_close_px = ", q_hull_close_px, " and photo.q_hull_margin_px = ",
+          q_hull_margin_px, " must lie in [0, 100]");
+  require(q_hull_splat_cells > 0 && q_hull_splat_cells <= 10 && q_hull_close_cells >= 0 && q_hull_close_cells <= 10,
+          "photoconsist: photo.q_hull_splat_cells = ", q_hull_splat_cells, " must lie in (0, 10] and photo.q_hull_close_cells = ",
+          q_hull_close_cells, " in [0, 10]");
+  require(q_hull_min_points >= 1, "photoconsist: photo.q_hull_min_points = ", q_hull_min_points, " must be >= 1");
   rule.check();
   occl.check();
 }
@@ -48,6 +55,12 @@ Options Options::from_params(const Params& p) {
   o.lattice_px = p.d("photo.lattice_px");
   o.hull_margin_px = p.d("photo.hull_margin_px");
   o.hull_core_px = p.d("label.hull_core_px");
+  o.q_hull = p.b("photo.q_hull");
+  o.q_hull_close_px = p.d("photo.q_hull_close_px");
+  o.q_hull_splat_cells = p.d("photo.q_hull_splat_cells");
+  o.q_hull_close_cells = p.d("photo.q_hull_close_cells");
+  o.q_hull_margin_px = p.d("photo.q_hull_margin_px");
+  o.q_hull_min_points = p.i("photo.q_hull_min_points");
   o.rule.fraction = p.d("photo.cross_fraction");
   o.rule.points = p.i("photo.cross_points");
   o.rule.min_points_abs = p.i("photo.cross_min");

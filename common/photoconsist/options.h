@@ -38,6 +38,15 @@ struct Options {
   double lattice_px = 1.0;    // photo.lattice_px: max projected spacing of lattice points
   double hull_margin_px = 2;  // photo.hull_margin_px: silhouettes dilated by this for the hull test
   double hull_core_px = 0;    // label.hull_core_px: lattice points this deep in every silhouette are skipped
+  // photo.q_hull*: in a scene without any silhouette, from level 1 on (and for the face
+  // scores) the hull test uses silhouettes estimated from Q of the previous levels
+  // (label::q_silhouettes), grown by q_hull_margin_px (docs/colmap.md).
+  bool q_hull = true;
+  double q_hull_splat_cells = 0.5;   // splat radius, in cells of the latest level of Q
+  double q_hull_close_cells = 1.0;   // closing radius, in those cells (projected at Q's median depth) ...
+  double q_hull_close_px = 6;        // ... and at least this many pixels
+  double q_hull_margin_px = 4;
+  int q_hull_min_points = 50;
   CrossingRule rule;
   OcclusionOptions occl;      // photo.occlusion, photo.occl_*: occlusion-aware camera selection (level >= 1)
   void check() const;

@@ -24,6 +24,7 @@
 #include "common/photoconsist/files.h"
 #include "common/photoconsist/ground_truth.h"
 #include "common/photoconsist/level_pass.h"
+#include "common/photoconsist/q_hull.h"
 #include "common/ply.h"
 #include "common/scene.h"
 #include "common/stage.h"
@@ -108,9 +109,12 @@ int main(int argc, char** argv) {
     scene.load_grey();
     const tet::TetMesh mesh = tet::read_mesh(mesh_file);
     const photo::Views views(scene.cams, scene.grey, scene.sil);
-    const pc::HullTest hull(views, scene.sil, opts.hull_margin_px, opts.hull_core_px);
     std::optional<pc::GroundTruth> gt;
-    if (!gt_file.empty()) gt.emplace(read_ply(gt_file));
+    TriMesh gt_mesh;
+    if (!gt_file.empty()) {
+      gt_mesh = read_ply(gt_file);
+      gt.emplace(gt_mesh);
+    }
 
     // Previous levels: cache and Q.
     pc::FaceCache prev;
@@ -128,6 +132,25 @@ int main(int argc, char** argv) {
       use_prev = prev.compatible(mesh.lat, opts.cache_signature(), &why);
       if (!use_prev && !scores) warn(cache_file, ": face cache not reused: ", why);
     }
+    // The hull: the given silhouettes, or in a scene without any, silhouettes estimated from
+    // Q of the previous levels (photo.q_hull; none at level 0).
+    const pc::QHull qh = pc::estimate_q_hull(scene, all, mesh.lat, opts);
+    const pc::HullTest hull = qh.views > 0 ? pc::HullTest(views, qh.sil, opts.hull_margin_px, 0)
+                                           : pc::HullTest(views, scene.sil, opts.hull_margin_px, opts.hull_core_px);
+    double q_hull_gt = -1;  // share of the GT surface's vertices inside the estimated hull
+    if (gt && qh.views > 0) {
+      std::int64_t in = 0;
+      for (const auto& V : gt_mesh.V) in += hull.inside(V);
+      q_hull_gt = gt_mesh.V.empty() ? 1.0 : static_cast<double>(in) / static_cast<double>(gt_mesh.V.size());
+    }
+    const auto q_hull_attrs = [&](h5::File& f, std::ostringstream& os) {
+      f.set_attr("/", "q_hull_views", static_cast<std::int64_t>(qh.views));
+      if (qh.views > 0) os << " q_hull_views=" << qh.views;
+      if (q_hull_gt >= 0) {
+        f.set_attr("/", "q_hull_gt_inside", q_hull_gt);
+        os << " q_hull_gt_inside=" << q_hull_gt;
+      }
+    };
 
     if (scores) {
       require(level < 0 || level == mesh.level, "photoconsist: --level ", level, " but ", mesh_file,
@@ -165,6 +188,7 @@ int main(int argc, char** argv) {
         f.set_attr("/points", "within_final_cell_of_gt", acc);
         os << " Q_within_cell=" << acc;
       }
+      q_hull_attrs(f, os);
       if (!points_ply.empty()) write_qpoints_ply(points_ply, q.q);  // before make's target
       f.commit();
       ctx.summary = os.str();
@@ -194,6 +218,7 @@ int main(int argc, char** argv) {
     in.hull = &hull;
     in.prev = use_prev ? &prev : nullptr;
     in.keep_all = keep_all;
+    in.recheck_hull = qh.views > 0;
     in.progress = !ctx.quiet;
     const pc::LevelResult R = pc::run_level(in, opts);
     all.append(R.points, level, true);
@@ -217,6 +242,8 @@ int main(int argc, char** argv) {
     f.set_attr("/faces", "occluders_dropped", occl.dropped());
     f.set_attr("/faces", "hidden_points", R.hidden_points);
     f.set_attr("/faces", "rescored_points", R.rescored_points);
+    f.set_attr("/faces", "hull_dropped_points", R.hull_dropped_points);
+    f.set_attr("/faces", "hull_added_points", R.hull_added_points);
     write_qpoints(f, R.points, "/points");
     pc::write_leveled_points(f, all, "/points_all");
     pc::write_face_cache(f, R.cache);
@@ -229,6 +256,8 @@ int main(int argc, char** argv) {
     if (!occl.empty())
       os << " occluders=" << occl.points() << " (dropped " << occl.dropped() << ") hidden_points=" << R.hidden_points
          << " rescored=" << R.rescored_points;
+    if (qh.views > 0) os << " hull_dropped=" << R.hull_dropped_points << " hull_added=" << R.hull_added_points;
+    q_hull_attrs(f, os);
     if (gt) {
       const double cs = tet::red_edge_length(mesh.lat, level);
       const pc::LevelEval E = pc::evaluate_level(mesh, R, *gt, cs);

@@ -14,8 +14,11 @@
    label, cut and silhouette-fix run on that run's intermediates with the silhouettes
    removed: label works from the box, the votes and silhouettes estimated from Q (every view gets one,
    some cells are exterior by them), silhouette-fix passes the labels through.
-3. TETMVS_COLMAP_QUALITY=1 (opt-in, several minutes): the scene reconstructed in both layouts,
-   with and without silhouettes; accuracy and completeness agree within 5 %.
+3. TETMVS_COLMAP_QUALITY=1 (opt-in, about half an hour on 2 cores): the scene reconstructed in
+   both layouts, with and without silhouettes; the COLMAP runs in the Middlebury layout's box
+   (BOX=) agree with it within 5 % on accuracy and completeness (cut2 and final); the runs in
+   the COLMAP layout's own box and the no-silhouette vs silhouette gaps are printed, not
+   asserted (docs/colmap.md).
 
 usage: test_colmap.py BIN_DIR SOURCE_DIR
 """
@@ -358,15 +361,23 @@ def quality(tmp, mb, ws, wsn):
     os.makedirs(parent)
     shutil.copytree(mb, os.path.join(parent, "torus-sil"), ignore=shutil.ignore_patterns("images_only"))
     shutil.copytree(mb, os.path.join(parent, "torus-nosil"), ignore=shutil.ignore_patterns("images_only", "silhouettes"))
+    # The Middlebury layout takes synth's bbox.txt, a COLMAP workspace a box from the hull and
+    # the sparse points: other boxes, other BCC lattices, other meshes. The asserted comparison
+    # gives the COLMAP runs the same box (ingest.box), so it compares the ingest paths alone;
+    # the runs with the COLMAP layout's own box are reported too (docs/colmap.md).
+    lo, hi = (np.array([float(x) for x in l.split()]) for l in open(os.path.join(mb, "bbox.txt")).read().split("\n")[:2])
+    box = "BOX=" + ",".join(f"{x:.17g}" for x in list(lo) + list(hi))
     runs = {
         "middlebury+sil": (["DATA=torus-sil", f"DATA_DIR={parent}"], None),
-        "colmap+sil": ([], ws),
+        "colmap+sil": ([box], ws),
+        "colmap+sil (own box)": ([], ws),
         "middlebury-nosil": (["DATA=torus-nosil", f"DATA_DIR={parent}", "AUTO_SILHOUETTES=false"], None),
-        "colmap-nosil": ([], wsn),
+        "colmap-nosil": ([box], wsn),
+        "colmap-nosil (own box)": ([], wsn),
     }
     res = {}
     for name, (extra, w) in runs.items():
-        rd = os.path.join(tmp, "q_" + name)
+        rd = os.path.join(tmp, "q_" + name.replace(" ", "_").replace("(", "").replace(")", ""))
         t0 = time.time()
         args = extra + ([f"DATA_DIR={w}"] if w else [])
         r = tiny_run.make(BIN, SRC, ["all"], args, run_dir=rd, check=False)
@@ -375,12 +386,17 @@ def quality(tmp, mb, ws, wsn):
         res[name] = evals(rd)
         print(f"{name}: {time.time() - t0:.0f} s; " + "; ".join(
             f"{s} acc {metric(j, 'accuracy'):.4g} comp {metric(j, 'completeness'):.4g}" for s, j in res[name].items()))
+    for a, b in [("middlebury+sil", "colmap+sil (own box)"), ("middlebury-nosil", "colmap-nosil (own box)"),
+                 ("middlebury+sil", "middlebury-nosil"), ("colmap+sil", "colmap-nosil")]:
+        if a in res and b in res:
+            print(f"{a} vs {b} (not asserted): " + "; ".join(
+                f"{s} {k} {metric(res[a][s], k):.4g} vs {metric(res[b][s], k):.4g}"
+                for s in ["cut1", "final"] if s in res[a] and s in res[b] for k in ["accuracy", "completeness"]))
     for a, b in [("middlebury+sil", "colmap+sil"), ("middlebury-nosil", "colmap-nosil")]:
         if a not in res or b not in res:
             continue
-        # the surfaces the pipeline delivers (cut1, before silhouette-fix, is printed above:
-        # the layouts' boxes differ, bbox.txt against the hull and the points, and so do the
-        # meshes: measured 7 % on cut1's accuracy, 2-3 % on cut2's and final's)
+        # the surfaces the pipeline delivers (cut1, before silhouette-fix, is printed above);
+        # with the same box the two ingest paths give the same scene, so the same results
         for s in ["cut2", "final"]:
             expect(s in res[a] and s in res[b], f"{s}: no evaluation in {a} or {b}")
             if s not in res[a] or s not in res[b]:
