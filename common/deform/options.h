@@ -25,7 +25,7 @@ struct Options {
   double texture_range_px = 5.0;  // offsets along the normal: -range..+range pixels
   double texture_far_px = 15.0;   // ... and -far..far when that shows no clear peak (= range: never)
   double texture_far_min_score = 0.9;  // ... where the peak must reach this score
-  double texture_far_min_contrast = 0.2;  // ... and exceed the lowest score on each side by this
+  double texture_far_min_contrast = 0.1;  // ... and exceed the lowest score on each side by this
   double texture_coarse_px = 1.0; // ... first every this many pixels
   double texture_step_px = 0.5;   // ... refined down to steps of this (then a parabola)
   double texture_min_score = 0.5; // the peak score must reach this
