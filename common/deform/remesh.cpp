@@ -36,6 +36,42 @@ int common_neighbours(const Topology& topo, int a, int b) {
   }
   return common;
 }
+
+// A batch of edge collapses (collapse_short_edges, collapse_folds): vertex b merges into a,
+// the two faces of edge ab die, and both ends and their neighbours are locked for the rest
+// of the batch; finish() rewrites the faces and drops unused vertices.
+struct CollapseBatch {
+  std::vector<char> locked, face_dead;
+  std::vector<int> remap;
+  std::int64_t count = 0;
+  CollapseBatch(int nv, int nf) : locked(nv, 0), face_dead(nf, 0), remap(nv) {
+    std::iota(remap.begin(), remap.end(), 0);
+  }
+  void collapse(RemeshMesh& m, const Topology& topo, int a, int b, int f1, int f2, const Eigen::Vector3d& p,
+                double fp) {
+    m.V[a] = p;
+    m.fp[a] = fp;
+    if (!m.settled.empty()) m.settled[a] = 0;
+    if (!m.drift.empty()) m.drift[a] = 0.f;
+    remap[b] = a;
+    face_dead[f1] = face_dead[f2] = 1;
+    for (int end : {a, b}) {
+      locked[end] = 1;
+      for (int q = topo.nbr_start[end]; q < topo.nbr_start[end + 1]; ++q) locked[topo.nbr[q]] = 1;
+    }
+    ++count;
+  }
+  std::int64_t finish(RemeshMesh& m) const {
+    if (count == 0) return 0;
+    std::vector<Eigen::Vector3i> F;
+    F.reserve(m.F.size());
+    for (size_t f = 0; f < m.F.size(); ++f)
+      if (!face_dead[f]) F.emplace_back(remap[m.F[f][0]], remap[m.F[f][1]], remap[m.F[f][2]]);
+    m.F.swap(F);
+    compact(m);
+    return count;
+  }
+};
 }  // namespace
 
 std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
@@ -149,11 +185,9 @@ std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ra
     if (cand[e] && topo.edge_count[e] == 2) order.push_back(e);
   std::sort(order.begin(), order.end(), [&](int x, int y) { return len[x] < len[y] || (len[x] == len[y] && x < y); });
 
-  std::vector<char> locked(nv, 0), face_dead(nf, 0);
-  std::vector<int> remap(nv);
-  std::iota(remap.begin(), remap.end(), 0);
+  CollapseBatch batch(nv, nf);
+  std::vector<char>& locked = batch.locked;
   const double cos_max_turn = 0.5;
-  std::int64_t count = 0;
   for (int e : order) {
     const int a = topo.edge_v[e][0], b = topo.edge_v[e][1];
     if (locked[a] || locked[b]) continue;
@@ -184,27 +218,9 @@ std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ra
       }
     }
     if (!ok) continue;
-    // collapse b into a
-    m.V[a] = p;
-    m.fp[a] = fpp;
-    if (!m.settled.empty()) m.settled[a] = 0;
-    if (!m.drift.empty()) m.drift[a] = 0.f;
-    remap[b] = a;
-    face_dead[f1] = face_dead[f2] = 1;
-    for (int end : {a, b}) {
-      locked[end] = 1;
-      for (int q = topo.nbr_start[end]; q < topo.nbr_start[end + 1]; ++q) locked[topo.nbr[q]] = 1;
-    }
-    ++count;
+    batch.collapse(m, topo, a, b, f1, f2, p, fpp);  // b into a
   }
-  if (count == 0) return 0;
-  std::vector<Eigen::Vector3i> F;
-  F.reserve(nf);
-  for (int f = 0; f < nf; ++f)
-    if (!face_dead[f]) F.emplace_back(remap[m.F[f][0]], remap[m.F[f][1]], remap[m.F[f][2]]);
-  m.F.swap(F);
-  compact(m);
-  return count;
+  return batch.finish(m);
 }
 
 std::int64_t flip_edges(RemeshMesh& m, double max_dihedral_deg) {
@@ -286,7 +302,9 @@ std::int64_t collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>
   cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
   const auto len = [&](int e) { return (m.V[topo.edge_v[e][0]] - m.V[topo.edge_v[e][1]]).squaredNorm(); };
   std::sort(cand.begin(), cand.end(), [&](int x, int y) { return len(x) < len(y) || (len(x) == len(y) && x < y); });
-  std::vector<char> locked(nv, 0), face_dead(nf, 0), pair_done(pairs.size(), 0);
+  CollapseBatch batch(nv, nf);
+  std::vector<char>& locked = batch.locked;
+  std::vector<char> pair_done(pairs.size(), 0);
   // the pairs at each vertex (a corner of either face), compressed rows
   std::vector<int> vp_start(nv + 1, 0), vp;
   for (const auto& p : pairs)
@@ -300,9 +318,6 @@ std::int64_t collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>
       for (int f : {pairs[i].first, pairs[i].second})
         for (int k = 0; k < 3; ++k) vp[fill[m.F[f][k]]++] = static_cast<int>(i);
   }
-  std::vector<int> remap(nv);
-  std::iota(remap.begin(), remap.end(), 0);
-  std::int64_t count = 0;
   for (int e : cand) {
     if (topo.edge_count[e] != 2) continue;
     const int a = topo.edge_v[e][0], b = topo.edge_v[e][1];
@@ -351,26 +366,9 @@ std::int64_t collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>
     }
     if (!(best > -1.5)) continue;
     for (int i : touched) pair_done[i] = 1;
-    m.V[a] = p;
-    m.fp[a] = 0.5 * (m.fp[a] + m.fp[b]);
-    if (!m.settled.empty()) m.settled[a] = 0;
-    if (!m.drift.empty()) m.drift[a] = 0.f;
-    remap[b] = a;
-    face_dead[f1] = face_dead[f2] = 1;
-    for (int end : {a, b}) {
-      locked[end] = 1;
-      for (int q = topo.nbr_start[end]; q < topo.nbr_start[end + 1]; ++q) locked[topo.nbr[q]] = 1;
-    }
-    ++count;
+    batch.collapse(m, topo, a, b, f1, f2, p, 0.5 * (m.fp[a] + m.fp[b]));
   }
-  if (count == 0) return 0;
-  std::vector<Eigen::Vector3i> F;
-  F.reserve(nf);
-  for (int f = 0; f < nf; ++f)
-    if (!face_dead[f]) F.emplace_back(remap[m.F[f][0]], remap[m.F[f][1]], remap[m.F[f][2]]);
-  m.F.swap(F);
-  compact(m);
-  return count;
+  return batch.finish(m);
 }
 
 }  // namespace tetmvs::deform
