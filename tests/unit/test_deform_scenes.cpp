@@ -81,6 +81,15 @@ const DeformScene& textured_sphere() {
   return d;
 }
 
+// Every 37th ground-truth vertex of d pushed `out_px` pixels out along its normal (V), with
+// the normal (N).
+void pushed_out(const DeformScene& d, double out_px, std::vector<Eigen::Vector3d>& V, std::vector<Eigen::Vector3d>& N) {
+  const std::vector<Eigen::Vector3d> gn = deform::vertex_normals(d.gt.V, d.gt.F);
+  for (size_t v = 0; v < d.gt.nv(); v += 37) {
+    V.push_back(d.gt.V[v] + out_px * d.px * gn[v]);
+    N.push_back(gn[v]);
+  }
+}
 }  // namespace
 
 TEST(DeformScene, TexturedSphereFromBccFacets) {
@@ -161,11 +170,7 @@ TEST(DeformScene, TextureForceFindsAKnownOffset) {
   // back by about -2 px where it sees a clear peak.
   const DeformScene& d = textured_sphere();
   std::vector<Eigen::Vector3d> V, N;
-  const std::vector<Eigen::Vector3d> gn = deform::vertex_normals(d.gt.V, d.gt.F);
-  for (size_t v = 0; v < d.gt.nv(); v += 37) {
-    V.push_back(d.gt.V[v] + 2.0 * d.px * gn[v]);
-    N.push_back(gn[v]);
-  }
+  pushed_out(d, 2.0, V, N);
   const std::vector<double> fp = deform::vertex_footprints(V, d.scene.cams, d.px);
   const photo::Views views(d.scene.cams, d.scene.grey);
   deform::Options o;
@@ -243,12 +248,8 @@ TEST(DeformScene, FarSearchReachesOffsetsBeyondTheRange) {
   // is coarse (the profile stays high for pixels around the peak), so fewer peaks pass,
   // but those that do are right.
   const DeformScene& d = textured_sphere();
-  const std::vector<Eigen::Vector3d> gn = deform::vertex_normals(d.gt.V, d.gt.F);
   std::vector<Eigen::Vector3d> V, N;
-  for (size_t v = 0; v < d.gt.nv(); v += 37) {
-    V.push_back(d.gt.V[v] + 4.0 * d.px * gn[v]);
-    N.push_back(gn[v]);
-  }
+  pushed_out(d, 4.0, V, N);
   const std::vector<double> fp = deform::vertex_footprints(V, d.scene.cams, d.px);
   const photo::Views views(d.scene.cams, d.scene.grey);
   deform::Options o;

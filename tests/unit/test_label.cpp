@@ -26,6 +26,17 @@ using namespace tetmvs;
 
 namespace {
 
+enum class Object { kCup, kSphere, kTorus };
+
+struct CaseSpec {
+  Object object = Object::kCup;
+  int views = 12;     // ring cameras
+  double noise = 0;   // standard deviation of Q's offset along the normal (a real Q lies off
+                      // the surface by up to a cell or so)
+  int best_k = 0;     // > 0: a point is consistent only in the best_k views facing it best (a
+                      // real Q is, so near a rim in one view the points behind are the nearest)
+};
+
 struct CupCase {
   TriMesh gt;
   MeshBVH bvh;
@@ -34,20 +45,15 @@ struct CupCase {
   QPoints q;
   std::vector<std::uint8_t> in_gt, in_cavity;
 
-  // views: ring cameras; noise: standard deviation of Q's offset along the normal (a real Q
-  // lies off the surface by up to a cell or so).
-  // torus: a point is consistent only in the views within max_angle of its normal (a real Q
-  // has no points at grazing views), so near a rim in one view the points of the arm behind
-  // are the nearest there.
-  explicit CupCase(bool sphere = false, int views = 12, double noise = 0, bool torus = false, double max_angle = 90,
-                   int best_k = 0) {
+  explicit CupCase(const CaseSpec& spec = {}) {
     // cup: z from 0 to 2, cavity r < 0.75, z > 0.3; sphere: radius 1 at (0, 0, 1); torus
     // (radii 1 and 0.4, tilted 60 degrees) about (0, 0, 1)
-    gt = torus ? synth::make_torus(0.03) : sphere ? synth::make_sphere(0.03) : synth::make_cup(0.03);
-    if (sphere || torus)
+    const bool cup = spec.object == Object::kCup;
+    gt = cup ? synth::make_cup(0.03) : spec.object == Object::kSphere ? synth::make_sphere(0.03) : synth::make_torus(0.03);
+    if (!cup)
       for (auto& x : gt.V) x.z() += 1.0;
     bvh = MeshBVH(gt);
-    scene.cams = synth::ring_cameras(views, 20, 8.0, Eigen::Vector3d(0, 0, 1), 320, 240, 400);
+    scene.cams = synth::ring_cameras(spec.views, 20, 8.0, Eigen::Vector3d(0, 0, 1), 320, 240, 400);
     const int V = scene.size();
     std::vector<Raster> depth;
     for (const auto& cam : scene.cams) {
@@ -72,26 +78,25 @@ struct CupCase {
     // not occluded), at least two.
     const SurfaceSamples smp = sample_surface(gt, 0.04, 7);
     std::mt19937 rng(11);
-    std::normal_distribution<double> jitter(0.0, noise > 0 ? noise : 1.0);
+    std::normal_distribution<double> jitter(0.0, spec.noise > 0 ? spec.noise : 1.0);
     for (std::size_t i = 0; i < smp.size(); ++i) {
       std::vector<std::int32_t> cams;
       for (int v = 0; v < V; ++v) {
         const Camera& cam = scene.cams[v];
         const Eigen::Vector3d& X = smp.P[i];
-        if (smp.N[i].dot((cam.centre() - X).normalized()) <= std::cos(max_angle * M_PI / 180) || cam.depth(X) <= 0)
-          continue;
+        if (smp.N[i].dot(cam.centre() - X) <= 0 || cam.depth(X) <= 0) continue;
         const Eigen::Vector2d p = cam.project(X);
         const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
         if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
         if (cam.depth(X) <= depth[v].depth.at<float>(w, u) + 0.02) cams.push_back(v);
       }
-      if (best_k > 0 && static_cast<int>(cams.size()) > best_k) {  // the views facing the point best
+      if (spec.best_k > 0 && static_cast<int>(cams.size()) > spec.best_k) {  // the views facing the point best
         const auto facing = [&](std::int32_t v) { return smp.N[i].dot((scene.cams[v].centre() - smp.P[i]).normalized()); };
         std::sort(cams.begin(), cams.end(), [&](std::int32_t a, std::int32_t b) { return facing(a) > facing(b); });
-        cams.resize(best_k);
+        cams.resize(spec.best_k);
         std::sort(cams.begin(), cams.end());
       }
-      if (cams.size() >= 2) q.add(smp.P[i] + (noise > 0 ? jitter(rng) : 0.0) * smp.N[i], smp.N[i], 0.95f, cams, -1);
+      if (cams.size() >= 2) q.add(smp.P[i] + (spec.noise > 0 ? jitter(rng) : 0.0) * smp.N[i], smp.N[i], 0.95f, cams, -1);
     }
     in_gt.assign(mesh.num_cells(), 0);
     in_cavity.assign(mesh.num_cells(), 0);
@@ -108,7 +113,7 @@ const CupCase& cup() {
   return c;
 }
 const CupCase& sphere() {
-  static const CupCase c(true);
+  static const CupCase c(CaseSpec{Object::kSphere});
   return c;
 }
 
@@ -209,7 +214,7 @@ TEST(Label, PointsInFreeSpaceAreDropped) {
 // start lost 0.4 mm at the first cut (docs/architecture.md). Counted on the free cells of
 // the finest level of a torus seen by 48 ring cameras.
 TEST(Label, FewViewsSeeingThroughDoNotOutweighManyHidingViews) {
-  static const CupCase k(false, 48, 0.05, true, 90, 5);
+  static const CupCase k(CaseSpec{Object::kTorus, 48, 0.05, 5});
   label::Options o;
   o.interior_depth = 4;
   const int finest = k.mesh.max_cell_level();
