@@ -201,9 +201,10 @@ QPoints drop_points_in_free_space(const Scene& s, const QPoints& q, const DepthM
   return keep_points(q, drop);
 }
 
-// Per view, the per-pixel median depth of the splats (radius about `cell`) of the points of
-// q photo-consistent in it; 0 where fewer than 3 splats cover the pixel.
-std::vector<cv::Mat> median_depth_maps(const Scene& s, const QPoints& q, double cell) {
+// Per view, the per-pixel `quantile` (0 the nearest, 0.5 the median, 1 the farthest) of the
+// depths of the splats (radius about `cell`) of the points of q photo-consistent in it; 0
+// where fewer than 3 splats cover the pixel.
+std::vector<cv::Mat> quantile_depth_maps(const Scene& s, const QPoints& q, double cell, double quantile) {
   const std::int64_t P = q.size();
   std::vector<cv::Mat> out(s.size());
 #pragma omp parallel for schedule(dynamic, 1)
@@ -222,42 +223,62 @@ std::vector<cv::Mat> median_depth_maps(const Scene& s, const QPoints& q, double 
           if ((u - u0) * (u - u0) + (w - w0) * (w - w0) <= r * r) splat.emplace_back(w * cam.width + u, static_cast<float>(z));
     }
     std::sort(splat.begin(), splat.end());
-    cv::Mat med = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+    cv::Mat out_v = cv::Mat::zeros(cam.height, cam.width, CV_32F);
     for (std::size_t i = 0; i < splat.size();) {
       std::size_t j = i;
       while (j < splat.size() && splat[j].first == splat[i].first) ++j;
-      if (j - i >= 3) med.at<float>(splat[i].first / cam.width, splat[i].first % cam.width) = splat[i + (j - i - 1) / 2].second;
+      if (j - i >= 3) {
+        const auto k = static_cast<std::size_t>(std::floor(quantile * static_cast<double>(j - i - 1)));
+        out_v.at<float>(splat[i].first / cam.width, splat[i].first % cam.width) = splat[i + k].second;
+      }
       i = j;
     }
-    out[v] = med;
+    out[v] = out_v;
   }
   return out;
 }
 
-// Points of q in front of the median depth of Q by `margin` in at least `views_needed`
-// views (Options::median_free_views); no test where a view has no median. Where false
-// matches crowd in front of the surface (near occluding contours, without silhouettes), the
-// window minimum of drop_points_in_free_space is one of them; the median is still the
-// surface as long as most points there lie on it.
-std::vector<std::uint8_t> in_front_of_median(const Scene& s, const QPoints& q, double cell, double margin,
-                                             int views_needed) {
+std::vector<cv::Mat> median_depth_maps(const Scene& s, const QPoints& q, double cell) {
+  return quantile_depth_maps(s, q, cell, 0.5);
+}
+
+}  // namespace
+
+// Points of q in front of Q's per-pixel depth `quantile` (quantile_depth_maps) by `margin`
+// in at least `views_needed` views and in at least `share` of the views where that depth
+// exists at the point's pixel; no test where a view has none.
+// Median, no share (Options::median_free_views, scenes without silhouettes): where false
+// matches crowd in front of the surface (near occluding contours), the window minimum of
+// drop_points_in_free_space is one of them; the median is still the surface as long as most
+// points there lie on it.
+// Lower quartile and a share (Options::quantile_free_views, scenes with silhouettes): the
+// photo-consistency band in front of a surface that the hull does not bound (a cup's far
+// inner wall) reaches several cells into the air; those points are in front of Q's depth in
+// most of the views that see the surface. A true point is in front of it only where points
+// hidden behind the surface (scored with views that do not see them: camera selection has
+// no occlusion test) push the depth back, near occluding contours, in a few views.
+std::vector<std::uint8_t> in_front_of_quantile(const Scene& s, const QPoints& q, double cell, double margin,
+                                               double quantile, int views_needed, double share) {
   const std::int64_t P = q.size();
-  const auto med = median_depth_maps(s, q, cell);
+  const auto depth = quantile_depth_maps(s, q, cell, quantile);
   std::vector<std::uint8_t> drop(P, 0);
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int64_t p = 0; p < P; ++p) {
-    int count = 0;
-    for (int v = 0; v < s.size() && count < views_needed; ++v) {
+    int in_front = 0, with_depth = 0;
+    for (int v = 0; v < s.size() && (share > 0 || in_front < views_needed); ++v) {
       double z;
       int u, w;
       if (!nearest_pixel(s.cams[v], q.pos(p), z, u, w)) continue;
-      const float m = med[v].at<float>(w, u);
-      count += m != 0 && z < m - margin;
+      const float d = depth[v].at<float>(w, u);
+      in_front += d != 0 && z < d - margin;
+      with_depth += d != 0;
     }
-    drop[p] = count >= views_needed;
+    drop[p] = in_front >= views_needed && in_front >= share * with_depth;
   }
   return drop;
 }
+
+namespace {
 
 double percentile(std::vector<std::int32_t> v, double pct) {
   if (v.empty()) return 0;
@@ -413,7 +434,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   if (use_median) {
     q_med = q_hull_out;
     for (int pass = 0; pass < o.median_passes; ++pass) {
-      const auto drop = in_front_of_median(s, q_med, cell, o.depth_margin * cell, o.median_free_views);
+      const auto drop = in_front_of_quantile(s, q_med, cell, o.depth_margin * cell, 0.5, o.median_free_views, 0.0);
       std::int64_t n = 0;
       for (auto d : drop) n += d;
       r.q_in_front_of_median += n;
@@ -421,7 +442,18 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       q_med = keep_points(q_med, drop);
     }
   }
-  const QPoints& q_prior = use_median ? q_med : q_hull_out;
+  // Points in front of the lower depth quartile of Q in quantile_free_views views (scenes
+  // with silhouettes: the band of photo-consistency in front of surfaces the hull does not bound).
+  QPoints q_quant;
+  const bool use_quantile = o.quantile_free_views > 0 && s.num_silhouettes() > 0;
+  if (use_quantile) {
+    const QPoints& q0 = use_median ? q_med : q_hull_out;
+    const auto drop = in_front_of_quantile(s, q0, cell, o.depth_margin * cell, o.free_quantile, o.quantile_free_views,
+                                           o.quantile_free_share);
+    for (auto d : drop) r.q_in_front_of_quantile += d;
+    q_quant = keep_points(q0, drop);
+  }
+  const QPoints& q_prior = use_quantile ? q_quant : use_median ? q_med : q_hull_out;
   // Free space outranks occlusion for Q itself: points lying in the free space that other
   // points prove (in front of what label.free_views views see) are false matches.
   QPoints q_free;

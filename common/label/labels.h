@@ -126,6 +126,19 @@ struct Options {
   // views, are dropped (0 = off). See in_front_of_median in labels.cpp.
   int median_free_views = 3;
   int median_passes = 1;  // the median test repeated on the points it keeps
+  // In scenes with silhouettes: points of Q lying in front of the per-pixel free_quantile
+  // depth of the points consistent in a view (by depth_margin), in at least
+  // quantile_free_views views and in at least quantile_free_share of the views where that
+  // depth exists, are dropped (0 views = off). They are the band of photo-consistency in
+  // front of a surface that no silhouette bounds (a cup's far inner wall, seen over the rim):
+  // the window minimum of drop_free_points is one of them, so the cavity's air never looks
+  // free. The share spares true points near occluding contours, where points hidden behind
+  // the surface push the quantile back in a few views (see in_front_of_quantile in
+  // labels.cpp; docs/architecture.md, "The band in front of unbounded surfaces"). Off by
+  // default: it helps 16-view rings and costs dinoRing's 48 cameras (the cup's rim erodes).
+  int quantile_free_views = 0;
+  double free_quantile = 0.25;
+  double quantile_free_share = 0.25;
   // When Q gives no interior cell (and hides no cell that is only too deep: a cup's unseen
   // cavity, which the hull core would fill) and the scene has silhouettes, cells whose whole
   // projection lies this many pixels inside every silhouette, and that no view sees as free
@@ -163,6 +176,7 @@ struct Result {
   std::int64_t q_hull_exterior = 0;  // cells exterior by the estimated silhouettes
   std::int64_t seed_core = 0;        // interior cells from the seed fallback (Q gave none)
   std::int64_t q_in_front_of_median = 0;  // points of Q dropped by median_free_views
+  std::int64_t q_in_front_of_quantile = 0;  // points of Q dropped by quantile_free_views
 };
 
 // Per view without a silhouette (and with at least min_points points of Q consistent in
@@ -177,6 +191,14 @@ std::vector<cv::Mat> q_silhouettes(const Scene& s, const QPoints& q, double cell
 // inside the silhouette (empty: no silhouette).
 std::vector<std::uint8_t> hull_core_cells(const tet::TetMesh& m, const Scene& s, const std::vector<cv::Mat>& dist,
                                           const std::vector<std::int8_t>& label, double core_px, int min_views);
+
+// Per point of q: 1 when it lies in front of the per-pixel `quantile` depth of the splats
+// (radius about `cell`) of the points consistent in a view, by `margin`, in at least
+// views_needed views and in at least `share` of the views where that depth exists
+// (Options::quantile_free_views with free_quantile and quantile_free_share; the median test
+// of Options::median_free_views is quantile 0.5, share 0).
+std::vector<std::uint8_t> in_front_of_quantile(const Scene& s, const QPoints& q, double cell, double margin,
+                                               double quantile, int views_needed, double share);
 
 // Per cell: 1 when the cell is surely outside the visual hull (see top).
 std::vector<std::uint8_t> outside_visual_hull(const tet::TetMesh& m, const Scene& s);

@@ -64,6 +64,9 @@ int main(int argc, char** argv) {
     o.seed_core_px = ctx.params.d("label.seed_core_px");
     o.median_free_views = ctx.params.i("label.median_free_views");
     o.median_passes = ctx.params.i("label.median_passes");
+    o.quantile_free_views = ctx.params.i("label.quantile_free_views");
+    o.free_quantile = ctx.params.d("label.free_quantile");
+    o.quantile_free_share = ctx.params.d("label.quantile_free_share");
     info("label: ", mesh.num_cells(), " cells, ", q.size(), " points, ", scene.num_silhouettes(), " silhouettes");
     const label::Result r = label::label_cells(mesh, scene, q, o);
     require(r.interior > 0, scores_file, ": no cell could be labelled interior (too few points Q?); "
@@ -97,6 +100,7 @@ int main(int argc, char** argv) {
     f.set_attr("/", "q_hull_exterior", r.q_hull_exterior);
     f.set_attr("/", "seed_core", r.seed_core);
     f.set_attr("/", "q_in_front_of_median", r.q_in_front_of_median);
+    f.set_attr("/", "q_in_front_of_quantile", r.q_in_front_of_quantile);
     f.commit();
     if (!slice.empty()) {
       // a slice through the box centre, cells coloured by label
@@ -109,7 +113,8 @@ int main(int argc, char** argv) {
     std::ostringstream os;
     os << r.interior << " interior, " << r.exterior << " exterior (" << r.boundary << " boundary, "
        << r.hull_exterior << " hull, " << r.q_hull_exterior << " hull of Q, " << r.voted_out << " votes), " << r.hull_core << " interior by the hull core (" << r.q_dropped << " points of Q in it dropped), " << r.seed_core << " interior seeds by the hull core (Q gave none), "
-       << r.q_sil_views << " silhouettes estimated from Q (" << r.q_outside_hull << " points of Q outside dropped), " << r.q_in_front_of_median << " points of Q in front of the median dropped, "
+       << r.q_sil_views << " silhouettes estimated from Q (" << r.q_outside_hull << " points of Q outside dropped), " << r.q_in_front_of_median << " points of Q in front of the median dropped, " << r.q_in_front_of_quantile
+       << " in front of the depth quantile dropped, "
        << r.q_in_free_space << " points of Q in free space dropped, " << r.too_deep << " hidden but too deep (left free), " << r.rays << " rays, vote percentiles "
        << r.low_votes << " / " << r.high_votes;
     ctx.summary = os.str();
