@@ -442,8 +442,9 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       q_med = keep_points(q_med, drop);
     }
   }
-  // Points in front of the lower depth quartile of Q in quantile_free_views views (scenes
-  // with silhouettes: the band of photo-consistency in front of surfaces the hull does not bound).
+  // Points in front of Q's free_quantile depth (the lower quartile by default) in
+  // quantile_free_views views (off by default; scenes with silhouettes, so never after the
+  // median test: the band of photo-consistency in front of surfaces the hull does not bound).
   QPoints q_quant;
   const bool use_quantile = o.quantile_free_views > 0 && s.num_silhouettes() > 0;
   if (use_quantile) {
