@@ -448,11 +448,10 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   QPoints q_quant;
   const bool use_quantile = o.quantile_free_views > 0 && s.num_silhouettes() > 0;
   if (use_quantile) {
-    const QPoints& q0 = use_median ? q_med : q_hull_out;
-    const auto drop = in_front_of_quantile(s, q0, cell, o.depth_margin * cell, o.free_quantile, o.quantile_free_views,
-                                           o.quantile_free_share);
+    const auto drop = in_front_of_quantile(s, q_hull_out, cell, o.depth_margin * cell, o.free_quantile,
+                                           o.quantile_free_views, o.quantile_free_share);
     for (auto d : drop) r.q_in_front_of_quantile += d;
-    q_quant = keep_points(q0, drop);
+    q_quant = keep_points(q_hull_out, drop);
   }
   const QPoints& q_prior = use_quantile ? q_quant : use_median ? q_med : q_hull_out;
   // Free space outranks occlusion for Q itself: points lying in the free space that other

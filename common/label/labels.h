@@ -123,7 +123,7 @@ struct Options {
   int q_sil_min_points = 50;
   // In scenes without any silhouette: points of Q lying in front of the per-pixel
   // median depth of the points consistent in a view (by depth_margin), in at least this many
-  // views, are dropped (0 = off). See in_front_of_median in labels.cpp.
+  // views, are dropped (0 = off). See in_front_of_quantile.
   int median_free_views = 3;
   int median_passes = 1;  // the median test repeated on the points it keeps
   // In scenes with silhouettes: points of Q lying in front of the per-pixel free_quantile

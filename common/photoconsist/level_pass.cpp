@@ -105,11 +105,20 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
     photo::Scratch scratch;
     std::vector<std::int64_t> index;
     std::vector<std::uint8_t> mask(static_cast<std::size_t>(views.size()), 0), mask_prev(mask);
+    // The code of lattice point X of face t (normal nf), scored without the views it is hidden in.
+    const auto score_fresh = [&](const Eigen::Vector3d& X, const Eigen::Vector3d& nf, std::int64_t t) {
+      scratch.hidden = nullptr;
+      if (occl && occl->hidden_views(views, X, mask.data()) > 0) scratch.hidden = mask.data(), ++hidden_pts[t];
+      const std::uint16_t code = encode_point(photo::score_point(views, X, nf, opts.line, scratch), opts.line);
+      scratch.hidden = nullptr;
+      return code;
+    };
 #pragma omp for schedule(dynamic, 16)
     for (std::int64_t t = 0; t < T; ++t) {
       const std::int32_t f = R.face[t];
       const auto fv = m.face_vertices(f);
       const Eigen::Vector3d a = m.vertex(fv[0]), b = m.vertex(fv[1]), c = m.vertex(fv[2]);
+      const Eigen::Vector3d nf = (b - a).cross(c - a);
       const int need = photo::lattice_divisions(views, a, b, c, opts.lattice_px);
       FaceWork& w = work[t];
       // Reuse the previous level's lattice when this face is a cached face or a quarter of one.
@@ -127,7 +136,6 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
       }
       // The cached codes were made with another hull (recheck_hull): apply this one.
       if (w.reused && in.recheck_hull) {
-        const Eigen::Vector3d nf = (b - a).cross(c - a);
         const bool all_outside = hull.triangle_outside(a, b, c);
         std::int64_t p = 0;
         for (int j = 0; j <= w.n; ++j)
@@ -140,10 +148,7 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
               w.codes[p] = kCodeOutside;
               ++hull_dropped[t];
             } else if (!sample && in_hull) {
-              scratch.hidden = nullptr;
-              if (occl && occl->hidden_views(views, X, mask.data()) > 0) scratch.hidden = mask.data(), ++hidden_pts[t];
-              w.codes[p] = encode_point(photo::score_point(views, X, nf, opts.line, scratch), opts.line);
-              scratch.hidden = nullptr;
+              w.codes[p] = score_fresh(X, nf, t);
               ++hull_added[t];
             }
           }
@@ -151,7 +156,6 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
       // A reused code was scored with the previous level's occluders (or none): score
       // again the points whose hidden views changed.
       if (w.reused && (occl || occl_prev)) {
-        const Eigen::Vector3d nf = (b - a).cross(c - a);
         std::int64_t p = 0;
         for (int j = 0; j <= w.n; ++j)
           for (int i = 0; i + j <= w.n; ++i, ++p) {
@@ -175,7 +179,6 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
       if (!w.reused) {
         const int n = reusable_divisions(need);
         w.n = n;
-        const Eigen::Vector3d nf = (b - a).cross(c - a);
         std::int64_t p = 0, nscored = 0;
         const bool all_outside = hull.triangle_outside(a, b, c);
         for (int j = 0; j <= n && !all_outside; ++j)
@@ -183,11 +186,7 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
             const Eigen::Vector3d X = lattice_point(a, b, c, n, i, j);
             if (!hull.inside(X) || hull.in_core(X)) continue;  // not a sample
             if (w.codes.empty()) w.codes.assign(static_cast<std::size_t>(lattice_size(n)), kCodeOutside);
-            scratch.hidden = nullptr;
-            if (occl && occl->hidden_views(views, X, mask.data()) > 0) scratch.hidden = mask.data(), ++hidden_pts[t];
-            const photo::PointResult r = photo::score_point(views, X, nf, opts.line, scratch);
-            scratch.hidden = nullptr;
-            w.codes[p] = encode_point(r, opts.line);
+            w.codes[p] = score_fresh(X, nf, t);
             ++nscored;
           }
         scored[t] = nscored;
