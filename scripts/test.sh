@@ -17,7 +17,7 @@ if [ "${SANITIZE:-1}" != "0" ]; then
   echo "== build (ASan + UBSan)"
   if [ ! -f build-asan/build.ninja ]; then
     cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1" \
-      -DTETMVS_SANITIZE=ON -DTETMVS_BENCH=OFF >/dev/null
+      -DTETMVS_SANITIZE=ON -DTETMVS_BENCH=OFF -DTETMVS_UNITY="${TETMVS_UNITY:-ON}" >/dev/null
   fi
   ninja -C build-asan unit_tests
   echo "== ASan build took $(( $(date +%s) - start )) s since the start"

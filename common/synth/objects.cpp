@@ -2,13 +2,13 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <numbers>
 
 #include "common/error.h"
 
 namespace tetmvs::synth {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 struct PPoint { double r, z; int region; };
 }  // namespace
 
@@ -57,12 +57,12 @@ TriMesh Profile::revolve(double h) const {
   const int nr = static_cast<int>(pts.size());
   std::vector<int> first(nr), count(nr);
   for (int i = 0; i < nr; ++i) {
-    const int n = pts[i].r == 0 ? 1 : std::max(3, static_cast<int>(std::ceil(2 * kPi * pts[i].r / h)));
+    const int n = pts[i].r == 0 ? 1 : std::max(3, static_cast<int>(std::ceil(2 * std::numbers::pi * pts[i].r / h)));
     first[i] = static_cast<int>(m.V.size());
     count[i] = n;
     const double off = (i % 2) * 0.5;
     for (int j = 0; j < n; ++j) {
-      const double a = 2 * kPi * (j + off) / n;
+      const double a = 2 * std::numbers::pi * (j + off) / n;
       m.V.emplace_back(pts[i].r * std::cos(a), pts[i].r * std::sin(a), pts[i].z);
     }
   }
@@ -99,16 +99,16 @@ TriMesh Profile::revolve(double h) const {
 
 TriMesh make_sphere(double h) {
   Profile p;
-  p.arc(0, 0, 1, -kPi / 2, kPi / 2, kBody);
+  p.arc(0, 0, 1, -std::numbers::pi / 2, std::numbers::pi / 2, kBody);
   return p.revolve(h);
 }
 
 TriMesh make_torus(double h) {
   Profile p;
-  p.arc(1.0, 0, 0.4, 0, 2 * kPi, kBody);
+  p.arc(1.0, 0, 0.4, 0, 2 * std::numbers::pi, kBody);
   p.set_periodic(true);
   TriMesh m = p.revolve(h);
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(60.0 * kPi / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(60.0 * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
   transform(m, R, 1.0, Eigen::Vector3d::Zero());
   return m;
 }
@@ -118,15 +118,15 @@ TriMesh make_cup(double h, bool filled) {
   const double Ro = 1.0, H = 2.0, w = 0.25, b = 0.3, f = 0.1, Ri = Ro - w, rr = w / 2;
   Profile p;
   p.line(0, 0, Ro - f, 0, kBody);                            // outer bottom
-  p.arc(Ro - f, f, f, -kPi / 2, 0, kBody);                   // outer bottom corner
+  p.arc(Ro - f, f, f, -std::numbers::pi / 2, 0, kBody);                   // outer bottom corner
   p.line(Ro, f, Ro, H - rr, kBody);                          // outer wall
   if (filled) {
-    p.arc(Ro - rr, H - rr, rr, 0, kPi / 2, kBody);           // outer half of the rim
+    p.arc(Ro - rr, H - rr, rr, 0, std::numbers::pi / 2, kBody);           // outer half of the rim
     p.line(Ro - rr, H, 0, H, kBody);                         // flat lid
   } else {
-    p.arc(Ri + rr, H - rr, rr, 0, kPi, kBody);               // rounded rim
+    p.arc(Ri + rr, H - rr, rr, 0, std::numbers::pi, kBody);               // rounded rim
     p.line(Ri, H - rr, Ri, b + f, kCavity);                  // inner wall (down)
-    p.arc(Ri - f, b + f, f, 0, -kPi / 2, kCavity);           // inner bottom corner
+    p.arc(Ri - f, b + f, f, 0, -std::numbers::pi / 2, kCavity);           // inner bottom corner
     p.line(Ri - f, b, 0, b, kCavity);                        // inner bottom
   }
   return p.revolve(h);
@@ -146,9 +146,9 @@ TriMesh make_horn(double h) {
   const double rb = 0.12, rt = 0.04, ztip = 2.1;
   const double ab = std::asin(rb);  // angle of the base circle, seen from the sphere centre: z = cos(ab)
   Profile p;
-  p.arc(0, 0, 1, -kPi / 2, kPi / 2 - ab, kBody);
+  p.arc(0, 0, 1, -std::numbers::pi / 2, std::numbers::pi / 2 - ab, kBody);
   p.line(rb, std::cos(ab), rt, ztip - rt, kProtrusion);
-  p.arc(0, ztip - rt, rt, 0, kPi / 2, kProtrusion);
+  p.arc(0, ztip - rt, rt, 0, std::numbers::pi / 2, kProtrusion);
   return p.revolve(h);
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -21,7 +22,6 @@
 namespace tetmvs::synth {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Matrix3d intrinsics(int w, int h, double f) {
   Eigen::Matrix3d K;
@@ -55,9 +55,9 @@ std::vector<Camera> ring_cameras(int n, double elevation_deg, double radius, con
   require(n >= 1, "ring cameras: need at least one view, got ", n);
   require(radius > 0, "ring cameras: radius must be > 0, got ", radius);
   std::vector<Camera> cams;
-  const double el = elevation_deg * kPi / 180;
+  const double el = elevation_deg * std::numbers::pi / 180;
   for (int i = 0; i < n; ++i) {
-    const double az = 2 * kPi * i / n;
+    const double az = 2 * std::numbers::pi * i / n;
     const Eigen::Vector3d C =
         target + radius * Eigen::Vector3d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
     cams.push_back(look_at(C, target, Eigen::Vector3d::UnitZ(), w, h, focal));
@@ -71,8 +71,8 @@ std::vector<Camera> hemisphere_cameras(int n, double radius, const Eigen::Vector
   require(n >= 1, "hemisphere cameras: need at least one view, got ", n);
   require(radius > 0, "hemisphere cameras: radius must be > 0, got ", radius);
   std::vector<Camera> cams;
-  const double s0 = std::sin(10 * kPi / 180), s1 = std::sin(75 * kPi / 180);
-  const double golden = kPi * (3 - std::sqrt(5.0));
+  const double s0 = std::sin(10 * std::numbers::pi / 180), s1 = std::sin(75 * std::numbers::pi / 180);
+  const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
   for (int i = 0; i < n; ++i) {
     const double el = std::asin(s0 + (s1 - s0) * (i + 0.5) / n), az = i * golden;
     const Eigen::Vector3d C =
@@ -149,7 +149,7 @@ Eigen::Vector3d scene_up(const std::vector<Camera>& cams, const Eigen::Vector3d&
   up.normalize();
   int k;
   up.cwiseAbs().maxCoeff(&k);
-  if (std::abs(up[k]) > std::cos(30 * kPi / 180)) {
+  if (std::abs(up[k]) > std::cos(30 * std::numbers::pi / 180)) {
     const double s = up[k] > 0 ? 1 : -1;
     up = Eigen::Vector3d::Zero();
     up[k] = s;

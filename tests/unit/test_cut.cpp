@@ -9,18 +9,14 @@
 #include "common/tetmesh/refine.h"
 #include "common/tetmesh/tetmesh.h"
 #include "common/trimesh/check.h"
+#include "cube_mesh.h"
 
 using namespace tetmvs;
 using namespace tetmvs::cut;
 
 namespace {
 
-tet::TetMesh cube_mesh(int cells, int refinements) {
-  const Eigen::AlignedBox3d box(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
-  tet::TetMesh m = tet::build_bcc(tet::lattice_for_box(box, cells));
-  if (refinements) m = tet::refine_uniform(m, refinements);
-  return m;
-}
+using test::cube_mesh;
 
 // Exterior: cells with a boundary face; interior: the cell containing the origin.
 std::vector<std::int8_t> seed_labels(const tet::TetMesh& m) {

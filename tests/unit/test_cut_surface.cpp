@@ -13,20 +13,16 @@
 #include "common/tetmesh/refine.h"
 #include "common/tetmesh/tetmesh.h"
 #include "common/trimesh/check.h"
+#include "cube_mesh.h"
 
 using namespace tetmvs;
 using namespace tetmvs::cut;
 
 namespace {
 
-tet::TetMesh cube_mesh(int cells, int refinements) {
-  const Eigen::AlignedBox3d box(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
-  tet::TetMesh m = tet::build_bcc(tet::lattice_for_box(box, cells));
-  if (refinements) m = tet::refine_uniform(m, refinements);
-  return m;
-}
+using test::cube_mesh;
 
-struct Topology {
+struct SurfaceTopology {
   std::int64_t edges = 0;
   std::int64_t edges_not_two = 0;     // edges with other than two triangles
   std::int64_t misoriented = 0;       // two triangles using an edge in the same direction
@@ -37,8 +33,8 @@ struct Topology {
 
 // Independent of check_mesh: counts per undirected edge, and per vertex the link (for each
 // triangle (v, a, b) in its order the link edge a -> b) must be one simple cycle.
-Topology topology(const TriMesh& s) {
-  Topology r;
+SurfaceTopology surface_topology(const TriMesh& s) {
+  SurfaceTopology r;
   std::map<std::pair<int, int>, std::pair<int, int>> edge;  // (lo, hi) -> (lo->hi uses, hi->lo uses)
   std::vector<std::vector<std::pair<int, int>>> link(s.nv());
   for (const auto& f : s.F)
@@ -99,7 +95,7 @@ double cut_area(const tet::TetMesh& m, const std::vector<std::uint8_t>& inside) 
 // Everything a valid cut surface must satisfy; the Euler characteristic is returned.
 int expect_valid(const tet::TetMesh& m, const std::vector<std::uint8_t>& inside, const TriMesh& s,
                  const std::string& what) {
-  const Topology t = topology(s);
+  const SurfaceTopology t = surface_topology(s);
   EXPECT_EQ(t.edges_not_two, 0) << what;
   EXPECT_EQ(t.misoriented, 0) << what;
   EXPECT_EQ(t.vertices_not_disk, 0) << what;
@@ -372,7 +368,7 @@ TEST(CutCleanup, FillsEnclosedVoidsRemovesSpecks) {
       EXPECT_EQ(inside[c], 0);
     }
   const TriMesh s = cut_surface(m, inside);
-  const Topology t = topology(s);
+  const SurfaceTopology t = surface_topology(s);
   EXPECT_EQ(t.edges_not_two, 0);
   EXPECT_EQ(t.euler, 4);  // two spheres: the filled ball and the seeded speck
 }
