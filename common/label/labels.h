@@ -135,7 +135,7 @@ struct Options {
   // free. The share spares true points near occluding contours, where points hidden behind
   // the surface push the quantile back in a few views (see in_front_of_quantile in
   // labels.cpp; docs/architecture.md, "The band in front of unbounded surfaces"). Off by
-  // default: it helps 16-view rings and costs dinoRing's 48 cameras (the cup's rim erodes).
+  // default: it helps 16-view rings and costs 48-camera rings (the cup's rim erodes).
   int quantile_free_views = 0;
   double free_quantile = 0.25;
   double quantile_free_share = 0.25;
