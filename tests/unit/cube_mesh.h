@@ -1,4 +1,4 @@
-// The BCC mesh of the cube [-1, 1]^3 that several unit tests cut, label or refine.
+// The BCC mesh of the cube [-1, 1]^3 that the cut tests (test_cut, test_cut_surface) use.
 #pragma once
 #include <Eigen/Geometry>
 
