@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <unordered_map>
 
 #include "common/error.h"
 #include "common/log.h"
@@ -103,14 +104,90 @@ bool nearest_pixel(const Camera& cam, const Eigen::Vector3d& X, double& z, int& 
 // space seen through the gap.
 struct DepthMaps {
   std::vector<cv::Mat> front, back, near, far;
+  // Only with_exits (the seen-free-space rule): `exit`, the nearest point of Q facing away
+  // from the view at least 2 finest cells behind `front` (where the ray leaves the matter it
+  // met), and `entry`, the nearest point facing the view at least 2 cells behind that exit
+  // (where it meets matter again). 0 = none.
+  std::vector<cv::Mat> exit, entry;
 };
 
-DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell) {
+// Whether some point of q lies within `radius` of X: a hash grid of bucket size radius.
+class PointProximity {
+ public:
+  PointProximity(const QPoints& q, double radius) : q_(q), r_(radius) {
+    for (std::int64_t p = 0; p < q.size(); ++p) buckets_[key(q.pos(p))].push_back(p);
+  }
+  bool any_within(const Eigen::Vector3d& X) const {
+    const Eigen::Vector3d b = (X / r_).array().floor();
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = buckets_.find(pack(b + Eigen::Vector3d(dx, dy, dz)));
+          if (it == buckets_.end()) continue;
+          for (std::int64_t p : it->second)
+            if ((q_.pos(p) - X).squaredNorm() <= r_ * r_) return true;
+        }
+    return false;
+  }
+
+ private:
+  static std::int64_t pack(const Eigen::Vector3d& b) {
+    const auto f = [](double v) { return static_cast<std::int64_t>(v) & 0x1FFFFF; };
+    return f(b.x()) | (f(b.y()) << 21) | (f(b.z()) << 42);
+  }
+  std::int64_t key(const Eigen::Vector3d& X) const { return pack((X / r_).array().floor()); }
+  const QPoints& q_;
+  double r_;
+  std::unordered_map<std::int64_t, std::vector<std::int64_t>> buckets_;
+};
+
+// Radius in pixels of a window of `cells` finest cells at the mean depth of Q in the view
+// (at least 1 pixel).
+int window_radius(const Camera& cam, const QPoints& q, double cell, double cells) {
+  double zc = 0;
+  for (std::int64_t p = 0; p < q.size(); ++p) zc += cam.depth(q.pos(p));
+  zc = q.size() ? zc / q.size() : 1.0;
+  return std::max(1, static_cast<int>(std::ceil(cells * cell * cam.focal() / std::max(zc, 1e-12))));
+}
+
+// The nearest depth of `front` within a disc of radius wr around each pixel (0: none).
+cv::Mat nearest_in_window(const cv::Mat& front, int wr) {
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * wr + 1, 2 * wr + 1));
+  cv::Mat f_inf = front.clone();
+  f_inf.setTo(std::numeric_limits<float>::max(), front == 0);
+  cv::Mat nearm;
+  cv::erode(f_inf, nearm, kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(std::numeric_limits<float>::max()));
+  nearm.setTo(0, nearm == std::numeric_limits<float>::max());
+  return nearm;
+}
+
+// Calls f(u, w) for every pixel of the disc (one finest cell at the point's depth, at least
+// one pixel) that point X at depth z > 0 covers in the image.
+template <class F>
+void for_splat(const Camera& cam, const Eigen::Vector3d& X, double z, double cell, F&& f) {
+  const Eigen::Vector2d px = cam.project(X);
+  const int r = std::max(1, static_cast<int>(std::ceil(cell * cam.focal() / z)));
+  const int u0 = static_cast<int>(std::lround(px.x())), w0 = static_cast<int>(std::lround(px.y()));
+  for (int w = w0 - r; w <= w0 + r; ++w)
+    for (int u = u0 - r; u <= u0 + r; ++u)
+      if (u >= 0 && w >= 0 && u < cam.width && w < cam.height && (u - u0) * (u - u0) + (w - w0) * (w - w0) <= r * r)
+        f(u, w);
+}
+
+DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell, bool with_exits = false) {
   DepthMaps d;
   d.front.resize(s.size());
   d.back.resize(s.size());
   d.near.resize(s.size());
   d.far.resize(s.size());
+  if (with_exits) {
+    d.exit.resize(s.size());
+    d.entry.resize(s.size());
+  }
+  const auto keep_nearest = [](cv::Mat& m, int u, int w, double z) {
+    float& cur = m.at<float>(w, u);
+    if (cur == 0 || z < cur) cur = static_cast<float>(z);
+  };
 #pragma omp parallel for schedule(dynamic, 1)
   for (int v = 0; v < s.size(); ++v) {
     const Camera& cam = s.cams[v];
@@ -126,38 +203,43 @@ DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell) {
       if (!consistent && !facing_away) continue;
       const double z = cam.depth(X);
       if (z <= 0) continue;
-      const Eigen::Vector2d px = cam.project(X);
-      const int r = std::max(1, static_cast<int>(std::ceil(cell * cam.focal() / z)));
-      const int u0 = static_cast<int>(std::lround(px.x())), w0 = static_cast<int>(std::lround(px.y()));
-      for (int w = w0 - r; w <= w0 + r; ++w)
-        for (int u = u0 - r; u <= u0 + r; ++u) {
-          if (u < 0 || w < 0 || u >= cam.width || w >= cam.height || (u - u0) * (u - u0) + (w - w0) * (w - w0) > r * r)
-            continue;
-          if (consistent) {
-            float& cur = front.at<float>(w, u);
-            if (cur == 0 || z < cur) cur = static_cast<float>(z);
-          }
-          if (facing_away) {
-            float& cur = back.at<float>(w, u);
-            if (z > cur) cur = static_cast<float>(z);
-          }
+      for_splat(cam, X, z, cell, [&](int u, int w) {
+        if (consistent) keep_nearest(front, u, w, z);
+        if (facing_away) {
+          float& cur = back.at<float>(w, u);
+          if (z > cur) cur = static_cast<float>(z);
         }
+      });
+    }
+    if (with_exits) {
+      // exit: the nearest point facing away from the view at least 2 cells behind the visible
+      // side; entry: the nearest point facing the view at least 2 cells behind that exit
+      cv::Mat exit = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+      cv::Mat entry = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+      for (const bool exits : {true, false})
+        for (std::int64_t p = 0; p < q.size(); ++p) {
+          const Eigen::Vector3d X = q.pos(p);
+          const double facing = q.nrm(p).dot(C - X);
+          if (exits ? facing >= 0 : facing <= 0) continue;
+          const double z = cam.depth(X);
+          if (z <= 0) continue;
+          const cv::Mat& before = exits ? front : exit;
+          for_splat(cam, X, z, cell, [&](int u, int w) {
+            const float b = before.at<float>(w, u);
+            if (b != 0 && z >= b + 2 * cell) keep_nearest(exits ? exit : entry, u, w, z);
+          });
+        }
+      d.exit[v] = exit;
+      d.entry[v] = entry;
     }
     d.front[v] = front;
     d.back[v] = back;
     // window: one finest cell at the depth of the scene's centre (at least 3x3 pixels)
-    double zc = 0;
-    for (std::int64_t p = 0; p < q.size(); ++p) zc += cam.depth(q.pos(p));
-    zc = q.size() ? zc / q.size() : 1.0;
-    const int wr = std::max(1, static_cast<int>(std::ceil(cell * cam.focal() / std::max(zc, 1e-12))));
+    const int wr = window_radius(cam, q, cell, 1.0);
     const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * wr + 1, 2 * wr + 1));
-    cv::Mat f_inf = front.clone();
-    f_inf.setTo(std::numeric_limits<float>::max(), front == 0);
-    cv::Mat nearm, farm;
-    cv::erode(f_inf, nearm, kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(std::numeric_limits<float>::max()));
-    nearm.setTo(0, nearm == std::numeric_limits<float>::max());
+    cv::Mat farm;
     cv::dilate(back, farm, kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-    d.near[v] = nearm;
+    d.near[v] = nearest_in_window(front, wr);
     d.far[v] = farm;
   }
   return d;
@@ -495,7 +577,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   }
   r.low_votes = percentile(pool, o.low_percentile);
   r.high_votes = percentile(pool, o.high_percentile);
-  auto depth = q_depth_maps(s, q, cell);
+  auto depth = q_depth_maps(s, q, cell, o.seen_free_views > 0);
   // Without silhouettes the visible side for the hidden (interior) test is the median depth
   // of Q where at least 3 splats give one: false matches in front of the surface must not
   // hide the air behind them.
@@ -508,6 +590,18 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     }
   }
   const double margin = o.depth_margin * cell;
+  // Seen free space (Options::seen_free_views): the nearest Q within a wider window, so that a
+  // gap in Q's splats where a surface faces the view does not pass for free space.
+  std::vector<cv::Mat> wide_near;
+  if (o.seen_free_views > 0) {
+    wide_near.resize(s.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int v = 0; v < s.size(); ++v)
+      wide_near[v] = o.seen_free_window == 1.0 ? depth.near[v]
+                                               : nearest_in_window(depth.front[v], window_radius(s.cams[v], q, cell, o.seen_free_window));
+  }
+  const double shell = o.interior_depth > 0 ? o.interior_depth * cell : std::numeric_limits<double>::infinity();
+  std::vector<std::uint8_t> seen_free(C, 0);
   std::vector<std::int8_t> decided(C, 0);
   std::vector<std::uint8_t> is_candidate(C, 0);
   for (std::int32_t c : candidates) is_candidate[c] = 1;
@@ -525,7 +619,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   for (std::int32_t c = 0; c < C; ++c) {
     if (r.label[c] != 0) continue;
     const Eigen::Vector3d X = m.cell_centroid(c);
-    int sandwiched = 0, free_space = 0, beyond = 0, seen = 0, outside_views = 0;
+    int sandwiched = 0, free_space = 0, beyond = 0, seen = 0, outside_views = 0, wide_free = 0, shell_hidden = 0, exited = 0;
     double shallowest = -1;
     std::vector<double> gaps;  // depth behind Q's visible side, per hiding view
     for (int v = 0; v < s.size(); ++v) {
@@ -541,6 +635,15 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       if (df != 0 && db != 0 && z > df + margin && z < db - margin) {
         ++sandwiched;
         gaps.push_back(z - df);
+        shell_hidden += z - df <= shell;
+        if (!depth.exit.empty()) {
+          const float ex = depth.exit[v].at<float>(w, u), en = depth.entry[v].at<float>(w, u);
+          exited += ex != 0 && ex < z - margin && (en == 0 || en > z - margin);
+        }
+      }
+      if (!wide_near.empty()) {
+        const float dw = wide_near[v].at<float>(w, u);
+        wide_free += dw != 0 && z < dw - margin;
       }
       ++seen;
     }
@@ -560,6 +663,16 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       const double out = std::min(1.0, o.free_weight * outside_views / seen);
       r.outside_evidence[c] = static_cast<float>(out);
       r.inside_evidence[c] = static_cast<float>((1.0 - out) * sandwiched / seen);
+    }
+    // Seen free space: free in seen_free_views views and, in every view hiding it, deeper
+    // behind Q's visible side than matter under a seen surface lies (the shell of
+    // interior_depth), and in seen_free_exit_share of them behind a wall: the ray left the
+    // matter it met (a point facing away from the view) and met none again before the cell.
+    // A cavity's air seen over its rim; active cells too (Q's band there).
+    if (o.seen_free_views > 0 && wide_free >= o.seen_free_views && shell_hidden == 0 &&
+        exited >= o.seen_free_exit_share * sandwiched) {
+      seen_free[c] = 1;
+      continue;
     }
     if (!is_candidate[c]) continue;
     // interior cells must lie wholly inside every silhouette (corners; outside an image is fine)
@@ -605,6 +718,20 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       r.reason[c] = kVotedOut;
     }
   }
+  // ... and clear of Q: a cell just under a surface can look free in a view where the
+  // nearest point of Q in its window lies a little deeper, but the surface's points are close.
+  if (o.seen_free_views > 0 && o.seen_free_clearance > 0 && q.size() > 0) {
+    const PointProximity near_q(q, o.seen_free_clearance * cell);
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (std::int32_t c = 0; c < C; ++c)
+      if (seen_free[c] && near_q.any_within(m.cell_centroid(c))) seen_free[c] = 0;
+  }
+  for (std::int32_t c = 0; c < C; ++c)
+    if (seen_free[c]) {
+      r.label[c] = -1;
+      r.reason[c] = kSeenFree;
+      ++r.seen_free;
+    }
   for (std::int32_t c = 0; c < C; ++c) {
     r.too_deep += decided[c] == 3;
     r.interior += r.label[c] == 1;

@@ -65,6 +65,7 @@ enum Reason : std::uint8_t {
   kHullCore = 7,      // interior: deep inside every silhouette (optional prior; 5, 6: silhouette-fix)
   kOutsideQHull = 8,  // exterior: outside a silhouette estimated from Q (view without one)
   kSeedCore = 9,      // interior: hull core used as the seed because Q gave no interior cell
+  kSeenFree = 10,     // exterior: free space in seen_free_views views, in no view just under Q (optional)
 };
 
 struct Options {
@@ -94,6 +95,28 @@ struct Options {
   // given in a shell under the seen surface, thinner than the walls of the cavities it
   // must not claim; deeper cells are left to the cut (with their soft inside evidence).
   double interior_depth = 8;
+  // Seen free space (0 = off): a free cell, active or not, that is free space in at least this
+  // many views (the nearest point of Q taken within seen_free_window finest cells, at Q's mean
+  // depth, around its pixel), that no view hides within interior_depth behind Q's visible
+  // side, and that has no point of Q within seen_free_clearance, is exterior. A cup's cavity
+  // seen over the rim by a few ring cameras is free in those and hidden in the rest, but always
+  // behind the whole near wall, while matter lies just under a seen surface in the views facing
+  // it. Gaps in Q (a surface facing a view without points there) let cells under a surface look
+  // free in a view: a wider window hides them (and the cavity near the rim in the image, where
+  // the few seeing views look); the exit test and the clearance keep the ones just under the
+  // surface, where the surface's own points are near (48-view torus, one view, no clearance:
+  // 5754 cells inside the tube, some 8 cells deep). Costs and gains: docs/architecture.md,
+  // "Seen free space".
+  int seen_free_views = 0;
+  double seen_free_window = 1;
+  // ... and no point of Q within this many finest cell sizes of its centroid (0: no test)
+  double seen_free_clearance = 0.5;
+  // ... and in at least this share of the views hiding it, the ray has left the matter it met
+  // before reaching the cell: a point of Q facing away from the view (the near wall's inner
+  // side) lies between Q's visible side and the cell, and no point facing the view after it
+  // (the far wall's inner side, when the cell is in the far wall). Matter inside a thick wall
+  // is deeper than the shell in every view too, but no ray reaches it through air.
+  double seen_free_exit_share = 0.5;
   // Drop points of Q that lie in free space (in front of what other points show) in at
   // least free_views views, before votes and depth maps: false matches floating in the air.
   bool drop_free_points = true;
@@ -170,6 +193,7 @@ struct Result {
   std::int64_t rays = 0;
   std::int64_t q_dropped = 0;  // points of Q inside the hull core (prior on), not used
   std::int64_t q_in_free_space = 0;  // points of Q dropped by drop_free_points
+  std::int64_t seen_free = 0;  // cells labelled exterior by the seen-free-space rule (kSeenFree)
   std::int64_t too_deep = 0;   // cells that passed the hidden rule but lie deeper than interior_depth
   std::int64_t q_sil_views = 0;      // views given a silhouette estimated from Q
   std::int64_t q_outside_hull = 0;   // points of Q outside the estimated silhouettes, dropped

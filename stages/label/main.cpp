@@ -56,6 +56,10 @@ int main(int argc, char** argv) {
     o.free_weight = ctx.params.d("label.free_weight");
     o.hull_core_px = ctx.params.d("label.hull_core_px");
     o.interior_depth = ctx.params.d("label.interior_depth");
+    o.seen_free_views = ctx.params.i("label.seen_free_views");
+    o.seen_free_window = ctx.params.d("label.seen_free_window");
+    o.seen_free_clearance = ctx.params.d("label.seen_free_clearance");
+    o.seen_free_exit_share = ctx.params.d("label.seen_free_exit_share");
     o.drop_free_points = ctx.params.b("label.drop_free_points");
     o.q_silhouettes = ctx.params.b("label.q_silhouettes");
     o.q_sil_close_px = ctx.params.d("label.q_sil_close_px");
@@ -93,6 +97,7 @@ int main(int argc, char** argv) {
     f.set_attr("/", "hull_core", r.hull_core);
     f.set_attr("/", "q_dropped", r.q_dropped);
     f.set_attr("/", "too_deep", r.too_deep);
+    f.set_attr("/", "seen_free", r.seen_free);
     f.set_attr("/", "q_in_free_space", r.q_in_free_space);
     f.set_attr("/", "rays", r.rays);
     f.set_attr("/", "q_sil_views", r.q_sil_views);
@@ -112,7 +117,7 @@ int main(int argc, char** argv) {
     }
     std::ostringstream os;
     os << r.interior << " interior, " << r.exterior << " exterior (" << r.boundary << " boundary, "
-       << r.hull_exterior << " hull, " << r.q_hull_exterior << " hull of Q, " << r.voted_out << " votes), " << r.hull_core << " interior by the hull core (" << r.q_dropped << " points of Q in it dropped), " << r.seed_core << " interior seeds by the hull core (Q gave none), "
+       << r.hull_exterior << " hull, " << r.q_hull_exterior << " hull of Q, " << r.voted_out << " votes, " << r.seen_free << " seen free), " << r.hull_core << " interior by the hull core (" << r.q_dropped << " points of Q in it dropped), " << r.seed_core << " interior seeds by the hull core (Q gave none), "
        << r.q_sil_views << " silhouettes estimated from Q (" << r.q_outside_hull << " points of Q outside dropped), " << r.q_in_front_of_median << " points of Q in front of the median dropped, " << r.q_in_front_of_quantile
        << " in front of the depth quantile dropped, "
        << r.q_in_free_space << " points of Q in free space dropped, " << r.too_deep << " hidden but too deep (left free), " << r.rays << " rays, vote percentiles "
