@@ -590,8 +590,9 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     }
   }
   const double margin = o.depth_margin * cell;
-  // Seen free space (Options::seen_free_views): the nearest Q within a wider window, so that a
-  // gap in Q's splats where a surface faces the view does not pass for free space.
+  // Seen free space (Options::seen_free_views): the nearest Q within seen_free_window cells
+  // (1: the free test's own window, depth.near); wider, a gap in Q's splats where a surface
+  // faces the view is less likely to pass for free space.
   std::vector<cv::Mat> wide_near;
   if (o.seen_free_views > 0) {
     wide_near.resize(s.size());
