@@ -590,16 +590,15 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     }
   }
   const double margin = o.depth_margin * cell;
-  // Seen free space (Options::seen_free_views): the nearest Q within seen_free_window cells
-  // (1: the free test's own window, depth.near); wider, a gap in Q's splats where a surface
-  // faces the view is less likely to pass for free space.
+  // Seen free space (Options::seen_free_views): with a window wider than the free test's own
+  // (one cell), the nearest Q within seen_free_window cells, so that a gap in Q's splats where
+  // a surface faces the view is less likely to pass for free space. Empty: the free test's.
   std::vector<cv::Mat> wide_near;
-  if (o.seen_free_views > 0) {
+  if (o.seen_free_views > 0 && o.seen_free_window != 1.0) {
     wide_near.resize(s.size());
 #pragma omp parallel for schedule(dynamic, 1)
     for (int v = 0; v < s.size(); ++v)
-      wide_near[v] = o.seen_free_window == 1.0 ? depth.near[v]
-                                               : nearest_in_window(depth.front[v], window_radius(s.cams[v], q, cell, o.seen_free_window));
+      wide_near[v] = nearest_in_window(depth.front[v], window_radius(s.cams[v], q, cell, o.seen_free_window));
   }
   const double shell = o.interior_depth > 0 ? o.interior_depth * cell : std::numeric_limits<double>::infinity();
   std::vector<std::uint8_t> seen_free(C, 0);
@@ -642,7 +641,9 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
           exited += ex != 0 && ex < z - margin && (en == 0 || en > z - margin);
         }
       }
-      if (!wide_near.empty()) {
+      if (wide_near.empty()) {
+        wide_free += is_free;
+      } else {
         const float dw = wide_near[v].at<float>(w, u);
         wide_free += dw != 0 && z < dw - margin;
       }
