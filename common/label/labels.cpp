@@ -728,6 +728,25 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     for (std::int32_t c = 0; c < C; ++c)
       if (seen_free[c] && near_q.any_within(m.cell_centroid(c))) seen_free[c] = 0;
   }
+  // ... and deep inside the visual hull (seen_free_hull_depth): where a silhouette bounds the surface,
+  // Q's band of photo-consistency is clipped in front of it and reaches only inward, so Q's
+  // visible side can lie cells under the true surface and the matter between looks free
+  // (docs/architecture.md, "Seen free space").
+  if (o.seen_free_views > 0 && o.seen_free_hull_depth > 0 && s_all.num_silhouettes() > 0) {
+    const auto sil_dist = silhouette_distances(s_all);
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (std::int32_t c = 0; c < C; ++c) {
+      if (!seen_free[c]) continue;
+      const Eigen::Vector3d X = m.cell_centroid(c);
+      for (int v = 0; v < s.size() && seen_free[c]; ++v) {
+        double z;
+        int u, w;
+        if (sil_dist[v].empty() || !nearest_pixel(s.cams[v], X, z, u, w)) continue;
+        // the silhouette's distance in pixels, at the cell's depth
+        if (sil_dist[v].at<float>(w, u) * z / s.cams[v].focal() < o.seen_free_hull_depth * cell) seen_free[c] = 0;
+      }
+    }
+  }
   for (std::int32_t c = 0; c < C; ++c)
     if (seen_free[c]) {
       r.label[c] = -1;

@@ -117,6 +117,16 @@ struct Options {
   // (the far wall's inner side, when the cell is in the far wall). Matter inside a thick wall
   // is deeper than the shell in every view too, but no ray reaches it through air.
   double seen_free_exit_share = 0.5;
+  // ... and, in scenes with silhouettes, lies at least seen_free_hull_depth finest cells inside
+  // the visual hull (0 = no test): in every view with a silhouette, the pixel distance from its
+  // centroid to the silhouette's edge, scaled to its depth, is at least that. Where a silhouette
+  // bounds the surface, Q's band of photo-consistency is clipped in front of the surface and
+  // reaches only inward, so Q's visible side can lie cells under the true surface and the
+  // matter between looks free in several views and beyond Q's far side in the rest (cup with
+  // dinoRing's cameras and the grid: 61853 cells inside the walls labelled exterior without
+  // this test, 169 with it; docs/architecture.md, "Seen free space"). Like interior_depth it
+  // counts finest cells and must stay below the depth of the cavity that cameras see.
+  double seen_free_hull_depth = 8;
   // Drop points of Q that lie in free space (in front of what other points show) in at
   // least free_views views, before votes and depth maps: false matches floating in the air.
   bool drop_free_points = true;

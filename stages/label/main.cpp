@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
     o.seen_free_window = ctx.params.d("label.seen_free_window");
     o.seen_free_clearance = ctx.params.d("label.seen_free_clearance");
     o.seen_free_exit_share = ctx.params.d("label.seen_free_exit_share");
+    o.seen_free_hull_depth = ctx.params.d("label.seen_free_hull_depth");
     o.drop_free_points = ctx.params.b("label.drop_free_points");
     o.q_silhouettes = ctx.params.b("label.q_silhouettes");
     o.q_sil_close_px = ctx.params.d("label.q_sil_close_px");
