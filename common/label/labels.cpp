@@ -672,10 +672,8 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     // matter it met (a point facing away from the view) and met none again before the cell.
     // A cavity's air seen over its rim; active cells too (Q's band there).
     if (o.seen_free_views > 0 && wide_free >= o.seen_free_views && shell_hidden == 0 &&
-        exited >= o.seen_free_exit_share * sandwiched) {
-      seen_free[c] = 1;
-      continue;
-    }
+        exited >= o.seen_free_exit_share * sandwiched)
+      seen_free[c] = 1;  // a candidate still gets its own label below, should the tests after this loop fail
     if (!is_candidate[c]) continue;
     // interior cells must lie wholly inside every silhouette (corners; outside an image is fine)
     bool in_hull = true;
@@ -748,7 +746,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     }
   }
   for (std::int32_t c = 0; c < C; ++c)
-    if (seen_free[c]) {
+    if (seen_free[c] && r.reason[c] != kHullCore) {  // the hull-core prior overrules Q
       r.label[c] = -1;
       r.reason[c] = kSeenFree;
       ++r.seen_free;
