@@ -266,6 +266,26 @@ TEST(Params, DefaultsAreDocumentedAndOverridesAreChecked) {
   EXPECT_EQ(p.values_for("ingest").size(), p.keys_for("ingest").size());
 }
 
+// Every settings file shipped in examples/params/ (loaded automatically for DATA=<its name>)
+// names only known parameters with valid values and says why in its _comment.
+TEST(Params, ShippedSettingsFilesLoad) {
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(TETMVS_SOURCE_DIR) / "examples/params")) {
+    if (e.path().extension() != ".json") continue;
+    ++files;
+    Params p = Params::defaults();
+    EXPECT_NO_THROW(p.merge_file(e.path())) << e.path();
+    std::ifstream in(e.path());
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_TRUE(j.contains("_comment")) << e.path();
+  }
+  EXPECT_GE(files, 5);  // dinoRing, dinoSparseRing, templeRing, templeSparseRing, synth-cup
+  Params cup = Params::defaults();
+  cup.merge_file(fs::path(TETMVS_SOURCE_DIR) / "examples/params/synth-cup.json");
+  EXPECT_EQ(cup.s("photo.point_patch"), "grid");
+  EXPECT_EQ(cup.i("label.seen_free_views"), 1);
+}
+
 TEST(Sha256, KnownVectors) {
   EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
   EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
