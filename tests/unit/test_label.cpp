@@ -479,3 +479,28 @@ TEST(Label, SeenFreeSpaceCarvesTheCavityNotTheWalls) {
   EXPECT_LT(n_all * 10, n_rule);
   EXPECT_LT(deep_all, 0.8);
 }
+
+// With the hull-core prior (the real sets' settings) the core's cells stay interior when the
+// seen-free rule is on: the prior is there because Q is not trusted inside the hull. And a cell
+// the rule takes no longer loses its label by votes when a later test of the rule rejects it.
+TEST(Label, SeenFreeSpaceLeavesTheHullCoreAndTheVotesAlone) {
+  const CupCase& k = cup();
+  label::Options o;
+  o.interior_depth = 4;
+  o.hull_core_px = 1.5;
+  const label::Result off = label::label_cells(k.mesh, k.scene, k.q, o);
+  o.seen_free_views = 1;
+  o.seen_free_hull_depth = 0;
+  o.seen_free_clearance = 0;
+  const label::Result on = label::label_cells(k.mesh, k.scene, k.q, o);
+  o.seen_free_hull_depth = 100;  // rejects every cell the rule's first tests take
+  const label::Result none = label::label_cells(k.mesh, k.scene, k.q, o);
+  std::printf("hull core %lld / %lld cells without / with the rule (%lld seen free); voted out %lld without the rule, "
+              "%lld with all its cells rejected\n",
+              (long long)off.hull_core, (long long)on.hull_core, (long long)on.seen_free, (long long)off.voted_out,
+              (long long)none.voted_out);
+  EXPECT_GT(off.hull_core, 0);
+  EXPECT_EQ(on.hull_core, off.hull_core);
+  EXPECT_EQ(none.seen_free, 0);
+  EXPECT_EQ(none.label, off.label);  // the rule's rejected cells keep the labels they had without it
+}
