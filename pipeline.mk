@@ -175,8 +175,13 @@ $(RUN_DIR)/final.ply: $(RUN_DIR)/scene.h5 $(RUN_DIR)/cut2.ply $(STAMPS)/deform.a
 # --- evaluation against ground truth (synthetic scenes) ------------------------------------
 SURFACES := $(foreach s,cut1 cut2 final,$(if $(filter $(s),$(MAKECMDGOALS) all $(if $(call has,deform),final cut2 cut1,$(if $(call has,silhouette-fix),cut2 cut1,cut1))),$(s)))
 evaluate: $(foreach s,$(SURFACES),$(RUN_DIR)/eval_$(s).json)
+# On synthetic scenes the evaluation of a cut also counts the hard labels it was cut with
+# that the ground truth contradicts (the "labels" object of schemas/evaluate.md).
+LABELS_OF_cut1 := $(RUN_DIR)/labels.h5
+LABELS_OF_cut2 := $(RUN_DIR)/silfix.h5
+label_check = $(if $(and $(filter synth-%,$(DATA)),$(LABELS_OF_$(1))),--labels $(LABELS_OF_$(1)) --tetmesh $(FINAL_MESH))
 $(RUN_DIR)/eval_%.json: $(RUN_DIR)/%.ply $(RUN_DIR)/scene.h5 $(GT) $(STAMPS)/evaluate.args | programs
-	$(BIN)/evaluate --mesh $< --gt $(GT) --cameras $(RUN_DIR)/scene.h5 --out $@ --png $(RUN_DIR)/eval_$*.png $(call args,evaluate)
+	$(BIN)/evaluate --mesh $< --gt $(GT) --cameras $(RUN_DIR)/scene.h5 --out $@ --png $(RUN_DIR)/eval_$*.png $(call label_check,$*) $(call args,evaluate)
 
 # The report: a self-contained HTML page of whatever the run holds.
 report: $(RUN_DIR)/report/index.html

@@ -213,4 +213,25 @@ RayHit MeshBVH::raycast(const Eigen::Vector3d& o, const Eigen::Vector3d& d, doub
   return hit;
 }
 
+bool MeshBVH::inside(const Eigen::Vector3d& p) const {
+  if (nodes_.empty() || points_only_) return false;
+  if ((p.array() < nodes_[0].lo.array()).any() || (p.array() > nodes_[0].hi.array()).any()) return false;
+  static const Eigen::Vector3d dirs[3] = {Eigen::Vector3d(0.5773, 0.3111, 0.7549).normalized(),
+                                          Eigen::Vector3d(-0.2718, 0.8813, -0.3871).normalized(),
+                                          Eigen::Vector3d(0.6931, -0.5209, -0.4983).normalized()};
+  int votes = 0;
+  for (const auto& d : dirs) {
+    int n = 0;
+    double t = 0;
+    for (;;) {
+      const RayHit h = raycast(p, d, t);
+      if (h.face < 0) break;
+      ++n;
+      t = h.t + 1e-9;
+    }
+    votes += n % 2;
+  }
+  return votes >= 2;
+}
+
 }  // namespace tetmvs

@@ -39,6 +39,10 @@ class MeshBVH {
   // First triangle hit by o + t d with tmin < t < tmax (mesh only; both faces count).
   RayHit raycast(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double tmin = 0,
                  double tmax = std::numeric_limits<double>::infinity()) const;
+  // Whether p lies inside the closed mesh (ground truth): the parity of a ray's crossings,
+  // majority of three fixed directions (robust to a ray that grazes an edge). Points outside
+  // the bounding box are outside. Mesh only.
+  bool inside(const Eigen::Vector3d& p) const;
 
  private:
   struct Node {

@@ -2,6 +2,7 @@
 // ground-truth mesh, per region, with mesh checks; JSON (schemas/evaluate.md) and an
 // error picture. The work lives in common/trimesh/evaluate.cpp.
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>
@@ -9,11 +10,14 @@
 #include "common/budget.h"
 #include "common/error.h"
 #include "common/fileio.h"
+#include "common/h5io.h"
 #include "common/image.h"
+#include "common/label/truth.h"
 #include "common/par_io.h"
 #include "common/ply.h"
 #include "common/scene.h"
 #include "common/stage.h"
+#include "common/tetmesh/mesh_io.h"
 #include "common/trimesh/evaluate.h"
 
 namespace fs = std::filesystem;
@@ -52,7 +56,7 @@ int main(int argc, char** argv) {
                "visible ground truth within 1.25 mm) of a reconstruction, per ground-truth region, plus mesh "
                "checks. Writes JSON (schemas/evaluate.md) and optionally a PNG of the reconstruction coloured by "
                "its error.");
-  std::string mesh, gt, cameras, out, png, size, box, thresholds;
+  std::string mesh, gt, cameras, out, png, size, box, thresholds, labels, tetmesh;
   auto& app = cli.app();
   app.add_option("--mesh", mesh, "reconstruction (PLY mesh or point cloud)")->required();
   app.add_option("--gt", gt, "ground-truth mesh (PLY; optional per-face/vertex 'region')")->required();
@@ -63,6 +67,10 @@ int main(int argc, char** argv) {
   app.add_option("--thresholds", thresholds,
                  "extra completeness thresholds, comma separated (world units), after eval.threshold");
   app.add_option("--region-box", box, "also report the region inside 'minx miny minz maxx maxy maxz'");
+  app.add_option("--labels", labels,
+                 "also count the hard labels (labels.h5 or silfix.h5) that the ground truth contradicts: interior "
+                 "cells outside it, exterior cells inside it (needs --tetmesh)");
+  app.add_option("--tetmesh", tetmesh, "the tetrahedral mesh the labels belong to (mesh_<L>.h5)");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     const Params& p = ctx.params;
     int w = 0, h = 0;
@@ -100,8 +108,21 @@ int main(int argc, char** argv) {
       require(!is.fail() && (lo.array() < hi.array()).all(), "--region-box needs six numbers, min below max");
       o.region_box = Eigen::AlignedBox3d(lo, hi);
     }
+    require(labels.empty() == tetmesh.empty(), "--labels and --tetmesh go together (labels.h5 with its mesh_<L>.h5)");
     const TriMesh rec = read_ply(mesh);
     const TriMesh g = read_ply(gt);
+    std::optional<label::LabelTruth> truth;
+    if (!labels.empty()) {
+      const tet::TetMesh m = tet::read_mesh(tetmesh);
+      auto lf = h5::File::open(labels, "tetmvs.labels");
+      require(lf.has("/cells/label"), labels, ": no /cells/label");
+      const auto lab = lf.read<std::int8_t>("/cells/label", {m.num_cells()}).data;
+      for (auto l : lab) require(l >= -1 && l <= 1, labels, ": /cells/label values must be -1, 0 or 1");
+      std::vector<std::uint8_t> reason;
+      if (lf.has("/cells/reason")) reason = lf.read<std::uint8_t>("/cells/reason", {m.num_cells()}).data;
+      require(g.nf() > 0, gt, ": --labels needs a ground-truth mesh with faces");
+      truth = label::check_labels(m, lab, reason, MeshBVH(g));
+    }
     const std::vector<Camera> cams = load_cameras(cameras, w, h);
     {
       // surface samples (area / spacing^2 each): position, normal, face, distances, and for
@@ -116,6 +137,11 @@ int main(int argc, char** argv) {
     const EvalResult r = evaluate(rec, g, cams, o);
     nlohmann::json j = to_json(r);
     j["inputs"] = {{"mesh", mesh}, {"gt", gt}, {"cameras", cameras}};
+    if (truth) {
+      j["labels"] = label::to_json(*truth);
+      j["inputs"]["labels"] = labels;
+      j["inputs"]["tetmesh"] = tetmesh;
+    }
     j["params"] = p.values_for("evaluate");
     write_text_atomic(out, j.dump(2) + "\n");
     if (!png.empty()) {
@@ -134,6 +160,9 @@ int main(int argc, char** argv) {
         if (rr.completeness.visible_samples < rr.completeness.gt_samples)  // part unseen: also over all of it
           s << " (all " << 100 * rr.completeness.within_all << "%, seen " << 100.0 * rr.completeness.visible_samples / rr.completeness.gt_samples << "%)";
       }
+    if (truth)
+      s << " wrong labels: " << truth->interior.wrong << " interior (" << truth->interior.wrong_whole << " wholly), "
+        << truth->exterior.wrong << " exterior (" << truth->exterior.wrong_whole << " wholly)";
     ctx.summary = s.str();
   });
 }

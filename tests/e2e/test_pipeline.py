@@ -15,7 +15,6 @@ import sys
 sys.path.insert(0, os.path.dirname(__file__))
 import harness  # noqa: E402
 import check_schema  # noqa: E402
-import gt_inside  # noqa: E402
 import tiny_run  # noqa: E402
 
 BIN, SRC = sys.argv[1], sys.argv[2]
@@ -79,14 +78,20 @@ def main():
         expect(acc <= max_acc, f"{surf} accuracy {acc * 1000:.3f} mm <= {max_acc * 1000:.1f} mm")
         big = [c for c in chk["components"] if c["faces"] > 0.05 * chk["faces"]]
         expect(len(big) == 1 and big[0]["genus"] == 1, f"{surf}: one large component of genus 1 (torus), got {[(c['faces'], c['genus']) for c in chk['components']]}")
-    labels = os.path.join(run, "labels.h5")
-    if os.path.exists(labels):
-        L = max(int(p[5:-3]) for p in os.listdir(run) if p.startswith("mesh_") and p.endswith(".h5"))
-        gt = os.path.join(tiny_run.paths(BIN)["synth_dir"], tiny_run.SCENE, "gt.ply")
-        wi, we, ni, ne = gt_inside.label_errors(gt, os.path.join(run, f"mesh_{L}.h5"), labels)
-        print(f"labels: {wi} of {ni} sampled interior cells outside the object, {we} of {ne} exterior inside")
-        expect(ni > 0 and wi == 0, "no interior label outside the true object")
-        expect(we == 0, "no exterior label inside the true object")
+    # labels against the ground truth, every cell (evaluate --labels; centroid on the wrong side)
+    for surf, lab in (("cut1", "labels.h5"), ("cut2", "silfix.h5")):
+        ev = os.path.join(run, f"eval_{surf}.json")
+        if not os.path.exists(ev):
+            continue
+        e = json.load(open(ev))
+        expect("labels" in e, f"eval_{surf}.json counts the labels of {lab}")
+        if "labels" not in e:
+            continue
+        li, le = e["labels"]["interior"], e["labels"]["exterior"]
+        print(f"{lab}: {li['wrong']} of {li['cells']} interior cells outside the object, "
+              f"{le['wrong']} of {le['cells']} exterior inside")
+        expect(li["cells"] > 0 and li["wrong"] == 0, f"{lab}: no interior label outside the true object")
+        expect(le["wrong"] == 0, f"{lab}: no exterior label inside the true object")
     # 3. change tracking: nothing changed -> nothing reruns
     r = tiny_run.make(BIN, SRC, ["-n", target])
     expect(stages_run(r.stdout) == [], f"a second make reruns {stages_run(r.stdout)}")

@@ -59,20 +59,6 @@ inline DeformScene make_deform_scene(const std::string& object, int views = 12, 
   return d;
 }
 
-// True when X is inside the closed mesh (parity of the crossings of a fixed ray).
-inline bool inside_mesh(const MeshBVH& bvh, const Eigen::Vector3d& X) {
-  const Eigen::Vector3d dir = Eigen::Vector3d(0.5377, 0.1832, 0.8229).normalized();
-  int hits = 0;
-  double t = 0;
-  for (int guard = 0; guard < 1000; ++guard) {
-    const RayHit r = bvh.raycast(X, dir, t);
-    if (r.face < 0) break;
-    ++hits;
-    t = r.t + 1e-9;
-  }
-  return hits % 2 == 1;
-}
-
 // The faceted start surface: BCC cells of cube edge `cell` (world units) whose centroid
 // is inside the ground truth; their boundary, made edge-manifold by cut_surface.
 inline TriMesh bcc_start_surface(const TriMesh& gt, double cell) {
@@ -83,7 +69,7 @@ inline TriMesh bcc_start_surface(const TriMesh& gt, double cell) {
   const MeshBVH bvh(gt);
   std::vector<std::uint8_t> inside(m.num_cells());
 #pragma omp parallel for schedule(static)
-  for (int c = 0; c < m.num_cells(); ++c) inside[c] = inside_mesh(bvh, m.cell_centroid(c));
+  for (int c = 0; c < m.num_cells(); ++c) inside[c] = bvh.inside(m.cell_centroid(c));
   return cut::cut_surface(m, inside);
 }
 

@@ -5,6 +5,8 @@
 #include "common/error.h"
 #include "common/synth/objects.h"
 #include "common/synth/scene.h"
+#include "common/label/truth.h"
+#include "common/tetmesh/tetmesh.h"
 #include "common/trimesh/evaluate.h"
 
 using namespace tetmvs;
@@ -198,4 +200,59 @@ TEST(Evaluate, RejectsBadOptions) {
   o = opts();
   TriMesh empty;
   EXPECT_THROW(evaluate(empty, gt, s.cams, o), Error);
+}
+
+// Labels against the ground truth (evaluate --labels): a unit sphere in a BCC mesh of cells
+// 0.1 wide, labelled by the exact test on the centroid (nothing wrong), then with known mistakes.
+TEST(Evaluate, LabelsAgainstTheTruth) {
+  const TriMesh sphere = synth::make_object("sphere", 0.03);
+  const MeshBVH gt(sphere);
+  const tet::TetMesh m = tet::build_bcc(tet::lattice_for_box(
+      Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1.3), Eigen::Vector3d::Constant(1.3)), 26));
+  const double cell = tet::red_edge_length(m.lat, m.max_cell_level());
+  std::vector<std::int8_t> lab(m.num_cells(), 0);
+  std::vector<std::uint8_t> why(m.num_cells(), 0);
+  std::int32_t deep = -1, straddle = -1, far = -1;
+  std::int64_t in = 0, out = 0;
+  for (std::int32_t c = 0; c < m.num_cells(); ++c) {
+    const double r = m.cell_centroid(c).norm();
+    if (r < 0.7) lab[c] = 1, why[c] = 4, ++in;           // hidden (interior)
+    else if (r > 1.2) lab[c] = -1, why[c] = 2, ++out;    // outside the hull
+    if (deep < 0 && r < 0.4) deep = c;
+    if (straddle < 0 && std::abs(r - 0.99) < 0.005) straddle = c;
+    if (far < 0 && r > 1.25) far = c;
+  }
+  ASSERT_GE(deep, 0);
+  ASSERT_GE(straddle, 0);
+  ASSERT_GE(far, 0);
+  label::LabelTruth t = label::check_labels(m, lab, why, gt);
+  EXPECT_DOUBLE_EQ(t.cell, cell);
+  EXPECT_EQ(t.interior.cells, in);
+  EXPECT_EQ(t.exterior.cells, out);
+  EXPECT_EQ(t.interior.wrong + t.exterior.wrong, 0);
+  ASSERT_EQ(t.by_reason.size(), 2u);
+  EXPECT_EQ(t.by_reason.at(4).cells, in);
+
+  // mistakes: a deep cell voted out, a cell just inside the surface (its corners outside) voted
+  // out, a cell far outside labelled interior by the hull core
+  lab[deep] = -1, why[deep] = 3;
+  lab[straddle] = -1, why[straddle] = 3;
+  lab[far] = 1, why[far] = 7;
+  t = label::check_labels(m, lab, why, gt);
+  EXPECT_EQ(t.exterior.wrong, 2);
+  EXPECT_EQ(t.exterior.wrong_whole, 1);  // the straddling cell is only partly inside
+  EXPECT_EQ(t.exterior.deeper_than[0], 1);
+  EXPECT_NEAR(t.exterior.deepest, (1 - m.cell_centroid(deep).norm()) / cell, 0.05);
+  EXPECT_GT(t.exterior.deepest, 5);
+  EXPECT_EQ(t.by_reason.at(3).wrong, 2);
+  EXPECT_EQ(t.interior.wrong, 1);
+  EXPECT_EQ(t.interior.wrong_whole, 1);
+  EXPECT_EQ(t.by_reason.at(7).wrong, 1);
+  EXPECT_EQ(t.by_reason.at(4).wrong, 0);
+  const nlohmann::json j = label::to_json(t);
+  EXPECT_EQ(j["exterior"]["wrong"], 2);
+  EXPECT_EQ(j["by_reason"][1]["name"], "voted_out");
+  EXPECT_EQ(j["by_reason"][1]["wrong_whole"], 1);
+
+  EXPECT_THROW(label::check_labels(m, std::vector<std::int8_t>(3, 0), {}, gt), Error);
 }

@@ -19,7 +19,6 @@
 #include "common/trimesh/bvh.h"
 #include "common/trimesh/raster.h"
 #include "common/trimesh/sample.h"
-#include "tests/unit/gt_inside.h"
 #include "tests/unit/sanitized.h"
 
 using namespace tetmvs;
@@ -102,7 +101,7 @@ struct CupCase {
     in_cavity.assign(mesh.num_cells(), 0);
     for (std::int32_t c = 0; c < mesh.num_cells(); ++c) {
       const Eigen::Vector3d x = mesh.cell_centroid(c);
-      in_gt[c] = test::inside_mesh(bvh, x);
+      in_gt[c] = bvh.inside(x);
       in_cavity[c] = std::hypot(x.x(), x.y()) < 0.75 && x.z() > 0.3 && x.z() < 2.0;
     }
   }

@@ -21,7 +21,6 @@
 #include "common/tetmesh/refine.h"
 #include "common/trimesh/bvh.h"
 #include "common/trimesh/raster.h"
-#include "tests/unit/gt_inside.h"
 
 using namespace tetmvs;
 
@@ -65,7 +64,7 @@ struct HornCase {
     protrusion.assign(C, 0);
     for (std::int32_t c = 0; c < C; ++c) {
       const Eigen::Vector3d x = mesh.cell_centroid(c);
-      in_gt[c] = test::inside_mesh(bvh, x);
+      in_gt[c] = bvh.inside(x);
       protrusion[c] = in_gt[c] && x.z() > 1.0;
       num_protrusion += protrusion[c];
     }
