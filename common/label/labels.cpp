@@ -380,6 +380,19 @@ std::vector<cv::Mat> silhouette_distances(const Scene& s) {
   return dist;
 }
 
+// True when X lies at least `depth` (world units) inside the visual hull: in every view with a
+// silhouette that it projects into, the pixel distance to the silhouette's edge, scaled to X's
+// depth (z / focal), is at least that.
+bool deep_in_hull(const Scene& s, const std::vector<cv::Mat>& dist, const Eigen::Vector3d& X, double depth) {
+  for (int v = 0; v < s.size(); ++v) {
+    double z;
+    int u, w;
+    if (dist[v].empty() || !nearest_pixel(s.cams[v], X, z, u, w)) continue;
+    if (dist[v].at<float>(w, u) * z / s.cams[v].focal() < depth) return false;
+  }
+  return true;
+}
+
 // True when X projects at least `margin` pixels inside the silhouette of every view with a
 // silhouette whose image it falls in, and there is at least one such view.
 bool in_hull_core(const Scene& s, const std::vector<cv::Mat>& dist, const Eigen::Vector3d& X, double margin) {
@@ -709,6 +722,25 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       r.label[c] = 1;
       r.reason[c] = kHullCore;
     }
+  // Exterior by votes also needs the cell deep inside the visual hull (voted_out_hull_depth):
+  // under a surface that a silhouette bounds, Q's band lies cells inside the surface and the
+  // rays of its points cross the matter above it (the same cause as for the seen-free rule).
+  std::vector<cv::Mat> sil_dist;  // of s_all, computed once for the hull tests
+  const bool hull_tests = s_all.num_silhouettes() > 0 &&
+                          (o.voted_out_hull_depth > 0 || (o.seen_free_views > 0 && o.seen_free_hull_depth > 0));
+  if (hull_tests) sil_dist = !dist.empty() && s.num_silhouettes() > 0 ? dist : silhouette_distances(s_all);
+  if (o.voted_out_hull_depth > 0 && !sil_dist.empty()) {
+    std::vector<std::uint8_t> shallow(C, 0);
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (std::int32_t c = 0; c < C; ++c)
+      if (decided[c] == -1 && !deep_in_hull(s, sil_dist, m.cell_centroid(c), o.voted_out_hull_depth * cell))
+        shallow[c] = 1;
+    for (std::int32_t c = 0; c < C; ++c)
+      if (shallow[c]) {
+        decided[c] = 0;
+        ++r.voted_out_near_hull;
+      }
+  }
   for (std::int32_t c : candidates) {
     if (decided[c] == 1) {
       r.label[c] = 1;
@@ -730,20 +762,11 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   // Q's band of photo-consistency is clipped in front of it and reaches only inward, so Q's
   // visible side can lie cells under the true surface and the matter between looks free
   // (docs/architecture.md, "Seen free space").
-  if (o.seen_free_views > 0 && o.seen_free_hull_depth > 0 && s_all.num_silhouettes() > 0) {
-    const auto sil_dist = silhouette_distances(s_all);
+  if (o.seen_free_views > 0 && o.seen_free_hull_depth > 0 && !sil_dist.empty()) {
 #pragma omp parallel for schedule(dynamic, 1024)
-    for (std::int32_t c = 0; c < C; ++c) {
-      if (!seen_free[c]) continue;
-      const Eigen::Vector3d X = m.cell_centroid(c);
-      for (int v = 0; v < s.size() && seen_free[c]; ++v) {
-        double z;
-        int u, w;
-        if (sil_dist[v].empty() || !nearest_pixel(s.cams[v], X, z, u, w)) continue;
-        // the silhouette's distance in pixels, at the cell's depth
-        if (sil_dist[v].at<float>(w, u) * z / s.cams[v].focal() < o.seen_free_hull_depth * cell) seen_free[c] = 0;
-      }
-    }
+    for (std::int32_t c = 0; c < C; ++c)
+      if (seen_free[c] && !deep_in_hull(s, sil_dist, m.cell_centroid(c), o.seen_free_hull_depth * cell))
+        seen_free[c] = 0;
   }
   for (std::int32_t c = 0; c < C; ++c)
     if (seen_free[c] && r.reason[c] != kHullCore) {  // the hull-core prior overrules Q

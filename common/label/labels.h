@@ -127,6 +127,13 @@ struct Options {
   // this test, 169 with it; docs/architecture.md, "Seen free space"). Like interior_depth it
   // counts finest cells and must stay below the depth of the cavity that cameras see.
   double seen_free_hull_depth = 8;
+  // Exterior by votes (kVotedOut) also needs the cell's centroid this many finest cells inside
+  // the visual hull (scenes with silhouettes; 0 = no test), measured as for
+  // seen_free_hull_depth. Under a surface that a silhouette bounds, Q's band lies cells inside
+  // the surface, and the rays of its points to their cameras cross the matter above it: cup
+  // with dinoRing's cameras and the grid patch, 45 voted-out cells 4 to 6.5 cells deep in the
+  // rim's top and the outer bottom corner without it (docs/architecture.md, "Seen free space").
+  double voted_out_hull_depth = 0;
   // Drop points of Q that lie in free space (in front of what other points show) in at
   // least free_views views, before votes and depth maps: false matches floating in the air.
   bool drop_free_points = true;
@@ -203,6 +210,7 @@ struct Result {
   std::int64_t rays = 0;
   std::int64_t q_dropped = 0;  // points of Q inside the hull core (prior on), not used
   std::int64_t q_in_free_space = 0;  // points of Q dropped by drop_free_points
+  std::int64_t voted_out_near_hull = 0;  // cells the vote rule would make exterior, left free by voted_out_hull_depth
   std::int64_t seen_free = 0;  // cells labelled exterior by the seen-free-space rule (kSeenFree)
   std::int64_t too_deep = 0;   // cells that passed the hidden rule but lie deeper than interior_depth
   std::int64_t q_sil_views = 0;      // views given a silhouette estimated from Q
