@@ -60,6 +60,8 @@ LabelTruth check_labels(const tet::TetMesh& m, const std::vector<std::int8_t>& l
     LabelErrors e;
     e.cells = 1;
     if (wrong[c]) {
+      t.wrong_cells.push_back(c);
+      if (wrong[c] == 2) t.wrong_whole_cells.push_back(c);
       e.wrong = 1;
       e.wrong_whole = wrong[c] == 2;
       for (int k = 0; k < 3; ++k) e.deeper_than[k] = depth[c] > kTruthDepths[k];
@@ -79,10 +81,16 @@ nlohmann::json to_json(const LabelTruth& t) {
     j["name"] = reason_name(code);
     by.push_back(j);
   }
+  const std::size_t listed = std::min(t.wrong_cells.size(), kMaxWrongCellsListed);
+  const std::size_t listed_whole = std::min(t.wrong_whole_cells.size(), kMaxWrongCellsListed);
   return {{"cell_size", t.cell},
           {"interior", errors_json(t.interior)},
           {"exterior", errors_json(t.exterior)},
-          {"by_reason", by}};
+          {"by_reason", by},
+          {"wrong_cells", std::vector<std::int32_t>(t.wrong_cells.begin(), t.wrong_cells.begin() + listed)},
+          {"wrong_whole_cells",
+           std::vector<std::int32_t>(t.wrong_whole_cells.begin(), t.wrong_whole_cells.begin() + listed_whole)},
+          {"wrong_cells_truncated", listed < t.wrong_cells.size() || listed_whole < t.wrong_whole_cells.size()}};
 }
 
 }  // namespace tetmvs::label

@@ -35,7 +35,10 @@ struct LabelTruth {
   double cell = 0;  // finest cell edge (world units), the unit of the depths
   LabelErrors interior, exterior;
   std::map<int, LabelErrors> by_reason;  // reason code -> its cells (only reasons present)
+  std::vector<std::int32_t> wrong_cells;        // every wrong cell, ascending
+  std::vector<std::int32_t> wrong_whole_cells;  // those wholly wrong, ascending
 };
+inline constexpr std::size_t kMaxWrongCellsListed = 100000;  // in the JSON
 
 // label: per cell 1 / -1 / 0; reason: per cell (empty: no breakdown). gt: BVH of the closed
 // ground-truth mesh. Deterministic; OpenMP over cells.

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/error.h"
@@ -253,6 +254,14 @@ TEST(Evaluate, LabelsAgainstTheTruth) {
   EXPECT_EQ(j["exterior"]["wrong"], 2);
   EXPECT_EQ(j["by_reason"][1]["name"], "voted_out");
   EXPECT_EQ(j["by_reason"][1]["wrong_whole"], 1);
+  std::vector<std::int32_t> listed = {deep, straddle, far};
+  std::sort(listed.begin(), listed.end());
+  EXPECT_EQ(t.wrong_cells, listed);
+  EXPECT_EQ(j["wrong_cells"].get<std::vector<std::int32_t>>(), listed);
+  EXPECT_FALSE(j["wrong_cells_truncated"].get<bool>());
+  std::vector<std::int32_t> whole = {deep, far};
+  std::sort(whole.begin(), whole.end());
+  EXPECT_EQ(j["wrong_whole_cells"].get<std::vector<std::int32_t>>(), whole);
 
   EXPECT_THROW(label::check_labels(m, std::vector<std::int8_t>(3, 0), {}, gt), Error);
 }
