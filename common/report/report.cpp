@@ -118,7 +118,7 @@ std::string build_report(const Options& o) {
   // ---- metrics
   h << "<h2>Results</h2>\n<table><tr><th>surface</th><th>faces</th><th>components</th><th>closed</th>"
     << "<th>silhouette IoU (mean)</th><th>boundary error px (mean / 95%)</th><th>accuracy 90% (mm)</th>"
-    << "<th>completeness 1.25 mm</th></tr>\n";
+    << "<th>completeness 1.25 mm</th><th>wrong labels: interior / exterior cells (wholly)</th></tr>\n";
   std::vector<std::pair<std::string, TriMesh>> surfaces;
   for (const char* name : {"cut1", "cut2", "final"}) {
     const fs::path ply = R / (std::string(name) + ".ply");
@@ -126,7 +126,7 @@ std::string build_report(const Options& o) {
     TriMesh m = read_ply(ply);
     const auto ag = silhouette_agreement(m, scene);
     h << "<tr><td>" << name << ".ply</td><td class=num>" << m.nf() << "</td>";
-    std::string comps = "-", closed = "-", acc = "-", comp = "-";
+    std::string comps = "-", closed = "-", acc = "-", comp = "-", wrong = "-";
     const fs::path ev = R / ("eval_" + std::string(name) + ".json");
     if (fs::exists(ev)) {
       try {
@@ -148,20 +148,33 @@ std::string build_report(const Options& o) {
           for (const auto& r : e["regions"])
             if (r.value("name", "") != "body" && r.contains("completeness") && r["completeness"]["value"].is_number())
               comp += "; " + r.value("name", std::string("?")) + " " + fmt(r["completeness"]["value"].get<double>() * 100, 4) + " %";
+        if (e.contains("labels")) {  // evaluate --labels: the cut's hard labels against the ground truth
+          const auto side = [&](const char* k) {
+            const json& x = e["labels"][k];
+            return x.value("wrong", json(0)).dump() + " (" + x.value("wrong_whole", json(0)).dump() + ")";
+          };
+          wrong = side("interior") + " / " + side("exterior");
+        }
       } catch (const std::exception&) {
       }
     }
     h << "<td>" << esc(comps) << "</td><td>" << esc(closed) << "</td><td class=num>" << fmt(ag.mean_iou, 4)
       << "</td><td class=num>" << fmt(ag.mean_boundary_px, 3) << " / " << fmt(ag.p95_boundary_px, 3)
-      << "</td><td class=num>" << acc << "</td><td class=num>" << comp << "</td></tr>\n";
+      << "</td><td class=num>" << acc << "</td><td class=num>" << comp << "</td><td class=num>" << esc(wrong)
+      << "</td></tr>\n";
     surfaces.emplace_back(name, std::move(m));
   }
   h << "</table>\n";
   for (const char* name : {"cut1", "cut2", "final"}) {
     const fs::path ev = R / ("eval_" + std::string(name) + ".json");
-    if (fs::exists(ev))
-      h << "<details><summary>eval_" << name << ".json</summary><pre>" << esc(json::parse(read_file(ev)).dump(1).substr(0, 6000))
+    if (fs::exists(ev)) {
+      json e = json::parse(read_file(ev));
+      if (e.contains("labels"))  // the cell lists are for scripts (examples/inspect_wrong_labels.py)
+        for (const char* k : {"wrong_cells", "wrong_whole_cells"})
+          if (e["labels"].contains(k)) e["labels"][k] = std::to_string(e["labels"][k].size()) + " cell ids";
+      h << "<details><summary>eval_" << name << ".json</summary><pre>" << esc(e.dump(1).substr(0, 6000))
         << "</pre></details>\n";
+    }
   }
   // ---- surfaces
   h << "<h2>Surfaces</h2>\n";

@@ -108,6 +108,11 @@ def main():
         if row:
             expect(acc in row.group(1), f"{s}: accuracy {acc} mm shown in its row: {row.group(1)[:300]}")
             expect(comp in row.group(1), f"{s}: completeness {comp} shown in its row")
+            if "labels" in d:  # the cut's hard labels against the ground truth
+                li, le = d["labels"]["interior"], d["labels"]["exterior"]
+                wrong = f"{li['wrong']} ({li['wrong_whole']}) / {le['wrong']} ({le['wrong_whole']})"
+                expect(wrong in row.group(1), f"{s}: wrong labels {wrong} shown in its row")
+    expect("wrong labels" in html, "the results table has a wrong-labels column")
     stages_log = [json.loads(line)["stage"] for line in open(os.path.join(run, "stages.jsonl"))]
     for st in set(stages_log) - {"report"}:
         expect(re.search(rf"<tr><td>{re.escape(st)}( → [^<]*)?</td><td class=num>[0-9.e+-]+</td>", html) is not None,
