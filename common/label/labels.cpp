@@ -14,6 +14,30 @@
 
 namespace tetmvs::label {
 
+std::vector<std::uint8_t> small_groups(const tet::TetMesh& m, const std::vector<std::uint8_t>& in, double share) {
+  const std::int32_t C = m.num_cells();
+  require(static_cast<std::int64_t>(in.size()) == C, "small_groups: ", in.size(), " flags for ", C, " cells");
+  std::vector<std::int32_t> parent(C);
+  for (std::int32_t c = 0; c < C; ++c) parent[c] = c;
+  const auto find = [&](std::int32_t c) {
+    while (parent[c] != c) c = parent[c] = parent[parent[c]];
+    return c;
+  };
+  for (std::int32_t f = 0; f < m.num_faces(); ++f) {  // union by the smaller root: deterministic
+    const std::int32_t a = m.face_cell(f, 0), b = m.face_cell(f, 1);
+    if (b < 0 || !in[a] || !in[b]) continue;
+    const std::int32_t ra = find(a), rb = find(b);
+    if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+  }
+  std::vector<std::int32_t> size(C, 0);
+  std::int32_t largest = 0;
+  for (std::int32_t c = 0; c < C; ++c)
+    if (in[c]) largest = std::max(largest, ++size[find(c)]);
+  std::vector<std::uint8_t> small(C, 0);
+  for (std::int32_t c = 0; c < C; ++c) small[c] = in[c] && size[find(c)] < share * largest;
+  return small;
+}
+
 std::vector<std::uint8_t> outside_visual_hull(const tet::TetMesh& m, const Scene& s) {
   const std::int32_t C = m.num_cells();
   std::vector<std::uint8_t> out(C, 0);
@@ -739,6 +763,18 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
       if (shallow[c]) {
         decided[c] = 0;
         ++r.voted_out_near_hull;
+      }
+  }
+  // Interior islands (interior_min_share): hidden cells in face-connected groups smaller than
+  // that share of the largest group are left free.
+  if (o.interior_min_share > 0) {
+    std::vector<std::uint8_t> hidden(C, 0);
+    for (std::int32_t c : candidates) hidden[c] = decided[c] == 1;
+    const auto islands = small_groups(m, hidden, o.interior_min_share);
+    for (std::int32_t c : candidates)
+      if (islands[c]) {
+        decided[c] = 0;
+        ++r.interior_islands;
       }
   }
   for (std::int32_t c : candidates) {

@@ -137,6 +137,13 @@ struct Options {
   // Drop points of Q that lie in free space (in front of what other points show) in at
   // least free_views views, before votes and depth maps: false matches floating in the air.
   bool drop_free_points = true;
+  // Interior by "hidden behind Q" only in face-connected groups of such cells holding at least
+  // this share of the largest group (0 = off); smaller islands are left free. Points of Q
+  // floating in a cavity's unseen air hide small groups of air cells within the shell, while
+  // the shell under a surface is one large group per object (cup with dinoRing's cameras and
+  // the grid: 183 interior cells in the air, 30 at 0.01, all within 1.5 cells of a wall;
+  // docs/architecture.md, "Islands"). small_groups() below.
+  double interior_min_share = 0;
   // Hull-core prior (0 = off): a cell, active or not, whose whole projection lies at least
   // this many pixels inside the silhouette in every view with a silhouette that it
   // projects into (at least min_occluding_views of them) is interior, whatever Q says;
@@ -210,6 +217,7 @@ struct Result {
   std::int64_t rays = 0;
   std::int64_t q_dropped = 0;  // points of Q inside the hull core (prior on), not used
   std::int64_t q_in_free_space = 0;  // points of Q dropped by drop_free_points
+  std::int64_t interior_islands = 0;  // hidden cells left free by interior_min_share
   std::int64_t voted_out_near_hull = 0;  // cells the vote rule would make exterior, left free by voted_out_hull_depth
   std::int64_t seen_free = 0;  // cells labelled exterior by the seen-free-space rule (kSeenFree)
   std::int64_t too_deep = 0;   // cells that passed the hidden rule but lie deeper than interior_depth
@@ -241,6 +249,10 @@ std::vector<std::uint8_t> hull_core_cells(const tet::TetMesh& m, const Scene& s,
 // of Options::median_free_views is quantile 0.5, share 0).
 std::vector<std::uint8_t> in_front_of_quantile(const Scene& s, const QPoints& q, double cell, double margin,
                                                double quantile, int views_needed, double share);
+
+// Per cell: 1 when the cell is one of the `in` cells and its face-connected group of `in`
+// cells holds fewer than `share` x the cells of the largest such group (Options::interior_min_share).
+std::vector<std::uint8_t> small_groups(const tet::TetMesh& m, const std::vector<std::uint8_t>& in, double share);
 
 // Per cell: 1 when the cell is surely outside the visual hull (see top).
 std::vector<std::uint8_t> outside_visual_hull(const tet::TetMesh& m, const Scene& s);

@@ -556,3 +556,62 @@ TEST(Label, VotedOutCellsLieDeepInsideTheHull) {
   EXPECT_GT(n_half, n_one);
   EXPECT_GT(n_one, 0);
 }
+
+// Interior islands (label.interior_min_share): groups of cells joined by faces, measured
+// against the largest. Two balls of cells in a BCC mesh, 0.9 and 0.2 across.
+TEST(Label, SmallGroupsOfCellsAreIslands) {
+  const tet::TetMesh m = tet::build_bcc(tet::lattice_for_box(
+      Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1)), 20));
+  std::vector<std::uint8_t> in(m.num_cells(), 0);
+  std::int64_t big = 0, small = 0;
+  for (std::int32_t c = 0; c < m.num_cells(); ++c) {
+    const Eigen::Vector3d x = m.cell_centroid(c);
+    if ((x - Eigen::Vector3d(-0.45, 0, 0)).norm() < 0.45) in[c] = 1, ++big;
+    if ((x - Eigen::Vector3d(0.55, 0, 0)).norm() < 0.1) in[c] = 1, ++small;
+  }
+  ASSERT_GT(small, 0);
+  ASSERT_GT(big, 20 * small);
+  const double ratio = static_cast<double>(small) / big;
+  const auto isl = label::small_groups(m, in, 0.5 * ratio);
+  std::int64_t dropped = 0, dropped_small = 0;
+  for (std::int32_t c = 0; c < m.num_cells(); ++c) {
+    dropped += isl[c];
+    dropped_small += isl[c] && m.cell_centroid(c).x() > 0;
+    EXPECT_TRUE(!isl[c] || in[c]);
+  }
+  EXPECT_EQ(dropped, 0);  // the small ball holds more than that share of the big one
+  const auto isl2 = label::small_groups(m, in, 1.5 * ratio);
+  dropped = dropped_small = 0;
+  for (std::int32_t c = 0; c < m.num_cells(); ++c) {
+    dropped += isl2[c];
+    dropped_small += isl2[c] && m.cell_centroid(c).x() > 0;
+  }
+  EXPECT_EQ(dropped, small);
+  EXPECT_EQ(dropped_small, small);
+  EXPECT_EQ(label::small_groups(m, std::vector<std::uint8_t>(m.num_cells(), 1), 0.5),
+            std::vector<std::uint8_t>(m.num_cells(), 0));  // one group: nothing small
+
+  // in label_cells: the sphere's interior shell is mostly one group; at 0.01 the test takes
+  // only the islands (here 138 right cells of 2805: the cost of the option), at 1 only the
+  // largest group stays
+  const CupCase& k = sphere();
+  label::Options o;
+  o.interior_depth = 4;
+  const label::Result off = label::label_cells(k.mesh, k.scene, k.q, o);
+  o.interior_min_share = 0.01;
+  const label::Result on = label::label_cells(k.mesh, k.scene, k.q, o);
+  EXPECT_EQ(on.interior + on.interior_islands, off.interior);
+  EXPECT_GT(on.interior, 0.9 * off.interior);
+  for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c)
+    if (on.label[c] != off.label[c]) EXPECT_TRUE(off.reason[c] == label::kHidden && on.label[c] == 0);
+  o.interior_min_share = 1;
+  const label::Result one = label::label_cells(k.mesh, k.scene, k.q, o);
+  std::vector<std::uint8_t> hidden(k.mesh.num_cells(), 0);
+  for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c) hidden[c] = off.reason[c] == label::kHidden;
+  const auto outside_largest = label::small_groups(k.mesh, hidden, 1.0);
+  const std::int64_t n_isl = std::count(outside_largest.begin(), outside_largest.end(), std::uint8_t{1});
+  std::printf("sphere: %lld interior cells, %lld outside the largest group\n", (long long)off.interior, (long long)n_isl);
+  EXPECT_EQ(one.interior_islands, n_isl);
+  EXPECT_EQ(one.interior, off.interior - n_isl);
+  EXPECT_GT(one.interior, 0);
+}
