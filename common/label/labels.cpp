@@ -14,9 +14,9 @@
 
 namespace tetmvs::label {
 
-std::vector<std::uint8_t> small_groups(const tet::TetMesh& m, const std::vector<std::uint8_t>& in, double share) {
+std::vector<std::int32_t> group_sizes(const tet::TetMesh& m, const std::vector<std::uint8_t>& in) {
   const std::int32_t C = m.num_cells();
-  require(static_cast<std::int64_t>(in.size()) == C, "small_groups: ", in.size(), " flags for ", C, " cells");
+  require(static_cast<std::int64_t>(in.size()) == C, "group_sizes: ", in.size(), " flags for ", C, " cells");
   std::vector<std::int32_t> parent(C);
   for (std::int32_t c = 0; c < C; ++c) parent[c] = c;
   const auto find = [&](std::int32_t c) {
@@ -30,11 +30,19 @@ std::vector<std::uint8_t> small_groups(const tet::TetMesh& m, const std::vector<
     if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
   }
   std::vector<std::int32_t> size(C, 0);
-  std::int32_t largest = 0;
   for (std::int32_t c = 0; c < C; ++c)
-    if (in[c]) largest = std::max(largest, ++size[find(c)]);
-  std::vector<std::uint8_t> small(C, 0);
-  for (std::int32_t c = 0; c < C; ++c) small[c] = in[c] && size[find(c)] < share * largest;
+    if (in[c]) ++size[find(c)];
+  std::vector<std::int32_t> out(C, 0);
+  for (std::int32_t c = 0; c < C; ++c)
+    if (in[c]) out[c] = size[find(c)];
+  return out;
+}
+
+std::vector<std::uint8_t> small_groups(const tet::TetMesh& m, const std::vector<std::uint8_t>& in, double share) {
+  const auto size = group_sizes(m, in);
+  const std::int32_t largest = size.empty() ? 0 : *std::max_element(size.begin(), size.end());
+  std::vector<std::uint8_t> small(size.size(), 0);
+  for (std::size_t c = 0; c < size.size(); ++c) small[c] = in[c] && size[c] < share * largest;
   return small;
 }
 
@@ -803,6 +811,19 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     for (std::int32_t c = 0; c < C; ++c)
       if (seen_free[c] && !deep_in_hull(s, sil_dist, m.cell_centroid(c), o.seen_free_hull_depth * cell))
         seen_free[c] = 0;
+  }
+  // ... and in a face-connected group of at least seen_free_min_cells such cells
+  if (o.seen_free_min_cells > 1) {
+    std::int64_t n = 0;
+    for (std::int32_t c = 0; c < C; ++c) n += seen_free[c];
+    if (n > 0) {
+      const auto sizes = group_sizes(m, seen_free);
+      for (std::int32_t c = 0; c < C; ++c)
+        if (seen_free[c] && sizes[c] < o.seen_free_min_cells) {
+          seen_free[c] = 0;
+          ++r.seen_free_islands;
+        }
+    }
   }
   for (std::int32_t c = 0; c < C; ++c)
     if (seen_free[c] && r.reason[c] != kHullCore) {  // the hull-core prior overrules Q

@@ -127,6 +127,9 @@ struct Options {
   // this test, 169 with it; docs/architecture.md, "Seen free space"). Like interior_depth it
   // counts finest cells and must stay below the depth of the cavity that cameras see.
   double seen_free_hull_depth = 8;
+  // ... and lies in a face-connected group of at least this many such cells (0, 1 = no test):
+  // single cells in a wall look free where Q has a gap or a stray point.
+  int seen_free_min_cells = 0;
   // Exterior by votes (kVotedOut) also needs the cell's centroid this many finest cells inside
   // the visual hull (scenes with silhouettes; 0 = no test), measured as for
   // seen_free_hull_depth. Under a surface that a silhouette bounds, Q's band lies cells inside
@@ -218,6 +221,7 @@ struct Result {
   std::int64_t q_dropped = 0;  // points of Q inside the hull core (prior on), not used
   std::int64_t q_in_free_space = 0;  // points of Q dropped by drop_free_points
   std::int64_t interior_islands = 0;  // hidden cells left free by interior_min_share
+  std::int64_t seen_free_islands = 0;  // seen-free cells left free by seen_free_min_cells
   std::int64_t voted_out_near_hull = 0;  // cells the vote rule would make exterior, left free by voted_out_hull_depth
   std::int64_t seen_free = 0;  // cells labelled exterior by the seen-free-space rule (kSeenFree)
   std::int64_t too_deep = 0;   // cells that passed the hidden rule but lie deeper than interior_depth
@@ -249,6 +253,9 @@ std::vector<std::uint8_t> hull_core_cells(const tet::TetMesh& m, const Scene& s,
 // of Options::median_free_views is quantile 0.5, share 0).
 std::vector<std::uint8_t> in_front_of_quantile(const Scene& s, const QPoints& q, double cell, double margin,
                                                double quantile, int views_needed, double share);
+
+// Per cell: the number of cells of its face-connected group of `in` cells (0 for the others).
+std::vector<std::int32_t> group_sizes(const tet::TetMesh& m, const std::vector<std::uint8_t>& in);
 
 // Per cell: 1 when the cell is one of the `in` cells and its face-connected group of `in`
 // cells holds fewer than `share` x the cells of the largest such group (Options::interior_min_share).

@@ -588,6 +588,9 @@ TEST(Label, SmallGroupsOfCellsAreIslands) {
   }
   EXPECT_EQ(dropped, small);
   EXPECT_EQ(dropped_small, small);
+  const auto sizes = label::group_sizes(m, in);
+  for (std::int32_t c = 0; c < m.num_cells(); ++c)
+    EXPECT_EQ(sizes[c], !in[c] ? 0 : m.cell_centroid(c).x() > 0 ? small : big);
   EXPECT_EQ(label::small_groups(m, std::vector<std::uint8_t>(m.num_cells(), 1), 0.5),
             std::vector<std::uint8_t>(m.num_cells(), 0));  // one group: nothing small
 
@@ -615,3 +618,31 @@ TEST(Label, SmallGroupsOfCellsAreIslands) {
   EXPECT_EQ(one.interior, off.interior - n_isl);
   EXPECT_GT(one.interior, 0);
 }
+
+// The seen-free rule's group test (label.seen_free_min_cells): only groups of at least that
+// many of the rule's cells are labelled; the rest keep the other rules' labels.
+TEST(Label, SeenFreeSpaceInGroupsOnly) {
+  const CupCase& k = cup();
+  label::Options o;
+  o.interior_depth = 4;
+  o.seen_free_hull_depth = 1.5;
+  o.seen_free_views = 1;
+  const label::Result all = label::label_cells(k.mesh, k.scene, k.q, o);
+  std::vector<std::uint8_t> rule(k.mesh.num_cells(), 0);
+  for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c) rule[c] = all.reason[c] == label::kSeenFree;
+  const auto sizes = label::group_sizes(k.mesh, rule);
+  const std::int32_t largest = *std::max_element(sizes.begin(), sizes.end());
+  ASSERT_GT(largest, 1);
+  o.seen_free_min_cells = largest;  // only the largest group (and any of the same size) stays
+  const label::Result big = label::label_cells(k.mesh, k.scene, k.q, o);
+  std::int64_t kept = 0;
+  for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c) kept += rule[c] && sizes[c] >= largest;
+  std::printf("cup: %lld seen-free cells, largest group %d, %lld kept\n", (long long)all.seen_free, largest,
+              (long long)kept);
+  EXPECT_EQ(big.seen_free, kept);
+  EXPECT_EQ(big.seen_free_islands, all.seen_free - kept);
+  EXPECT_LT(big.seen_free, all.seen_free);
+  for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c)
+    if (big.reason[c] == label::kSeenFree) EXPECT_GE(sizes[c], largest);
+}
+
