@@ -81,7 +81,9 @@ stage_keys = $(foreach v,$(MAKE_PARAMS),$(if $(filter $(1),$(PARAM_$(v)_STAGES))
 params_for = $(if $(and $(PARAMS),$(call stage_keys,$(1))),$(shell tr -d '\n' < '$(PARAMS)' | grep -oE '"($(subst $(space),|,$(strip $(call stage_keys,$(1)))))" *: *("[^"]*"|[^,}]*)' | tr -d ' ' | LC_ALL=C sort | tr '\n' ' '))
 # The stage's built-in defaults count too: a changed default in params/defaults.json reruns
 # the stages that use it (and what follows), as a changed command-line value does.
-stage_defaults = $(foreach v,$(MAKE_PARAMS),$(if $(filter $(1),$(PARAM_$(v)_STAGES)),$(PARAM_$(v)_KEY)=$(PARAM_$(v)_DEFAULT)))
+# (stripped: the empty words of the other stages' parameters must not count, or adding a
+# parameter to any stage would rerun every stage of every run)
+stage_defaults = $(strip $(foreach v,$(MAKE_PARAMS),$(if $(filter $(1),$(PARAM_$(v)_STAGES)),$(PARAM_$(v)_KEY)=$(PARAM_$(v)_DEFAULT))))
 stamp_text = $(call set_args,$(1)) $(STAGE_FLAGS) $(subst ','"'"',$(call params_for,$(1)) defaults: $(call stage_defaults,$(1)))
 # A dry run (make -n) must not touch the run: it compares against a copy of the stamps.
 # (MAKEFLAGS's first word holds the single-letter flags; without any it is pipeline.mk's own

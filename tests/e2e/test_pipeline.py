@@ -146,6 +146,15 @@ def main():
         c = stamps('{"_comment": "b",\n "label.low_percentile": 12, "photo.T": 0.8}', extra=[f"BUILD_DIR={fake}"])
         changed = sorted(n for n in b if b[n] != c[n])
         expect(changed == ["deform.args"], f"a changed deform default changes only deform's stamp, changed {changed}")
+        # A new parameter (a newer defaults.json) changes only the stamps of the stages that use
+        # it (until session 11 the other stages' stamps held one blank per parameter, so adding
+        # any parameter reran every stage of every run)
+        with open(os.path.join(fake, "params.mk"), "w") as f:
+            f.write(mk + "\nPARAM_ZZ_NEW_KEY := label.zz_new\nPARAM_ZZ_NEW_STAGES := label\n"
+                    "PARAM_ZZ_NEW_DEFAULT := 1\nMAKE_PARAMS += ZZ_NEW\n")
+        d = stamps('{"_comment": "b",\n "label.low_percentile": 12, "photo.T": 0.8}', extra=[f"BUILD_DIR={fake}"])
+        changed = sorted(n for n in b if b[n] != d[n])
+        expect(changed == ["label.args"], f"a new label parameter changes only label's stamp, changed {changed}")
     CHECKS.finish()
 
 
