@@ -814,16 +814,12 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   }
   // ... and in a face-connected group of at least seen_free_min_cells such cells
   if (o.seen_free_min_cells > 1) {
-    std::int64_t n = 0;
-    for (std::int32_t c = 0; c < C; ++c) n += seen_free[c];
-    if (n > 0) {
-      const auto sizes = group_sizes(m, seen_free);
-      for (std::int32_t c = 0; c < C; ++c)
-        if (seen_free[c] && sizes[c] < o.seen_free_min_cells) {
-          seen_free[c] = 0;
-          ++r.seen_free_islands;
-        }
-    }
+    const auto sizes = group_sizes(m, seen_free);
+    for (std::int32_t c = 0; c < C; ++c)
+      if (seen_free[c] && sizes[c] < o.seen_free_min_cells) {
+        seen_free[c] = 0;
+        ++r.seen_free_islands;
+      }
   }
   for (std::int32_t c = 0; c < C; ++c)
     if (seen_free[c] && r.reason[c] != kHullCore) {  // the hull-core prior overrules Q
