@@ -121,6 +121,9 @@ int main(int argc, char** argv) {
       std::vector<std::uint8_t> reason;
       if (lf.has("/cells/reason")) reason = lf.read<std::uint8_t>("/cells/reason", {m.num_cells()}).data;
       require(g.nf() > 0, gt, ": --labels needs a ground-truth mesh with faces");
+      require(check_mesh(g).closed, gt,
+              ": --labels needs a closed ground-truth mesh (inside and outside are told by counting a ray's "
+              "crossings), this one has boundary or non-manifold edges");
       truth = label::check_labels(m, lab, reason, MeshBVH(g));
     }
     const std::vector<Camera> cams = load_cameras(cameras, w, h);

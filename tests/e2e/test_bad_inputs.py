@@ -189,6 +189,17 @@ def budget_cases(run, tmp, out_dir, have):
         out = os.path.join(out_dir, "labels.h5")
         run_case("label", ["--scene", scene, "--mesh", meshL, "--scores", scores, "--out", out] + tiny,
                  [out], words + ["label", "cells"], "budget: 1 MiB")
+        # evaluate --labels: needs its mesh, and a closed ground truth
+        out = os.path.join(out_dir, "eval_labels.json")
+        run_case("evaluate", ["--mesh", gt, "--gt", gt, "--cameras", scene, "--out", out, "--labels", labels],
+                 [out], ["--labels", "--tetmesh"], "labels without their mesh")
+        open_gt = os.path.join(out_dir, "open.ply")
+        with open(open_gt, "w") as f:
+            f.write("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                    "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                    "0 0 0\n0.01 0 0\n0 0.01 0\n3 0 1 2\n")
+        run_case("evaluate", ["--mesh", gt, "--gt", open_gt, "--cameras", scene, "--out", out, "--labels", labels,
+                              "--tetmesh", meshL], [out], ["open.ply", "closed"], "labels against an open ground truth")
         out = os.path.join(out_dir, "scores.h5")
         run_case("photoconsist", ["--scene", scene, "--mesh", meshL, "--scores", "--out", out] + tiny,
                  [out], words + ["photoconsist", "faces", "LEVELS"], "budget: 1 MiB")
