@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "common/budget.h"
+#include "common/cut/inputs.h"
 #include "common/error.h"
 #include "common/fileio.h"
 #include "common/h5io.h"
@@ -114,10 +115,8 @@ int main(int argc, char** argv) {
     std::optional<label::LabelTruth> truth;
     if (!labels.empty()) {
       const tet::TetMesh m = tet::read_mesh(tetmesh);
+      const auto lab = cut::read_labels(labels, m.num_cells());
       auto lf = h5::File::open(labels, "tetmvs.labels");
-      require(lf.has("/cells/label"), labels, ": no /cells/label");
-      const auto lab = lf.read<std::int8_t>("/cells/label", {m.num_cells()}).data;
-      for (auto l : lab) require(l >= -1 && l <= 1, labels, ": /cells/label values must be -1, 0 or 1");
       std::vector<std::uint8_t> reason;
       if (lf.has("/cells/reason")) reason = lf.read<std::uint8_t>("/cells/reason", {m.num_cells()}).data;
       require(g.nf() > 0, gt, ": --labels needs a ground-truth mesh with faces");
