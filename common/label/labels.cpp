@@ -143,11 +143,11 @@ struct DepthMaps {
   std::vector<cv::Mat> exit, entry;
 };
 
-// Whether some point of q lies within `radius` of X: a hash grid of bucket size radius.
+// Whether some point of a set lies within `radius` of X: a hash grid of bucket size radius.
 class PointProximity {
  public:
-  PointProximity(const QPoints& q, double radius) : q_(q), r_(radius) {
-    for (std::int64_t p = 0; p < q.size(); ++p) buckets_[key(q.pos(p))].push_back(p);
+  PointProximity(std::vector<Eigen::Vector3d> pts, double radius) : pts_(std::move(pts)), r_(radius) {
+    for (std::size_t p = 0; p < pts_.size(); ++p) buckets_[key(pts_[p])].push_back(p);
   }
   bool any_within(const Eigen::Vector3d& X) const {
     const Eigen::Vector3d b = (X / r_).array().floor();
@@ -156,8 +156,8 @@ class PointProximity {
         for (int dz = -1; dz <= 1; ++dz) {
           const auto it = buckets_.find(pack(b + Eigen::Vector3d(dx, dy, dz)));
           if (it == buckets_.end()) continue;
-          for (std::int64_t p : it->second)
-            if ((q_.pos(p) - X).squaredNorm() <= r_ * r_) return true;
+          for (std::size_t p : it->second)
+            if ((pts_[p] - X).squaredNorm() <= r_ * r_) return true;
         }
     return false;
   }
@@ -168,10 +168,16 @@ class PointProximity {
     return f(b.x()) | (f(b.y()) << 21) | (f(b.z()) << 42);
   }
   std::int64_t key(const Eigen::Vector3d& X) const { return pack((X / r_).array().floor()); }
-  const QPoints& q_;
+  std::vector<Eigen::Vector3d> pts_;
   double r_;
-  std::unordered_map<std::int64_t, std::vector<std::int64_t>> buckets_;
+  std::unordered_map<std::int64_t, std::vector<std::size_t>> buckets_;
 };
+
+std::vector<Eigen::Vector3d> positions(const QPoints& q) {
+  std::vector<Eigen::Vector3d> out(q.size());
+  for (std::int64_t p = 0; p < q.size(); ++p) out[p] = q.pos(p);
+  return out;
+}
 
 // Radius in pixels of a window of `cells` finest cells at the mean depth of Q in the view
 // (at least 1 pixel).
@@ -508,6 +514,40 @@ std::vector<std::uint8_t> hull_core_cells(const tet::TetMesh& m, const Scene& s,
   return core;
 }
 
+// Options::conflict_cells: where a cell of the hidden rule (interior) and one of the votes or of
+// seen free space (exterior) lie within conflict_cells finest cells of each other (centroids),
+// the interior cell is left free, and the exterior one too unless the views hiding it put it
+// deeper than the shell and that distance (hidden_depth >= interior_depth + conflict_cells).
+// Both sets are taken before either yields, so the order of the cells does not matter.
+void resolve_conflicts(const tet::TetMesh& m, const Options& o, double cell, Result& r) {
+  const std::int32_t C = m.num_cells();
+  const auto from_q_outside = [&](std::int32_t c) { return r.reason[c] == kVotedOut || r.reason[c] == kSeenFree; };
+  std::vector<Eigen::Vector3d> inside, outside;
+  for (std::int32_t c = 0; c < C; ++c) {
+    if (r.reason[c] == kHidden) inside.push_back(m.cell_centroid(c));
+    if (from_q_outside(c)) outside.push_back(m.cell_centroid(c));
+  }
+  if (inside.empty() || outside.empty()) return;
+  const double reach = o.conflict_cells * cell;
+  const PointProximity near_inside(std::move(inside), reach), near_outside(std::move(outside), reach);
+  // deep enough to be beyond the reach of the shell of interior cells, in finest cells
+  const double beyond_shell = std::max(0.0, o.interior_depth) + o.conflict_cells;
+  std::vector<std::uint8_t> yield(C, 0);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::int32_t c = 0; c < C; ++c) {
+    if (r.reason[c] == kHidden)
+      yield[c] = near_outside.any_within(m.cell_centroid(c));
+    else if (from_q_outside(c) && r.hidden_depth[c] >= 0 && r.hidden_depth[c] < beyond_shell)
+      yield[c] = near_inside.any_within(m.cell_centroid(c));
+  }
+  for (std::int32_t c = 0; c < C; ++c) {
+    if (!yield[c]) continue;
+    (r.label[c] == 1 ? r.conflict_interior : r.conflict_exterior) += 1;
+    r.label[c] = 0;
+    r.reason[c] = kNone;
+  }
+}
+
 Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, const Options& o) {
   const std::int32_t C = m.num_cells();
   Result r;
@@ -797,7 +837,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   // ... and clear of Q: a cell just under a surface can look free in a view where the
   // nearest point of Q in its window lies a little deeper, but the surface's points are close.
   if (o.seen_free_views > 0 && o.seen_free_clearance > 0 && q.size() > 0) {
-    const PointProximity near_q(q, o.seen_free_clearance * cell);
+    const PointProximity near_q(positions(q), o.seen_free_clearance * cell);
 #pragma omp parallel for schedule(dynamic, 1024)
     for (std::int32_t c = 0; c < C; ++c)
       if (seen_free[c] && near_q.any_within(m.cell_centroid(c))) seen_free[c] = 0;
@@ -825,8 +865,8 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     if (seen_free[c] && r.reason[c] != kHullCore) {  // the hull-core prior overrules Q
       r.label[c] = -1;
       r.reason[c] = kSeenFree;
-      ++r.seen_free;
     }
+  if (o.conflict_cells > 0) resolve_conflicts(m, o, cell, r);
   for (std::int32_t c = 0; c < C; ++c) {
     r.too_deep += decided[c] == 3;
     r.interior += r.label[c] == 1;
@@ -834,6 +874,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     r.boundary += r.reason[c] == kBoundary;
     r.hull_exterior += r.reason[c] == kOutsideHull;
     r.voted_out += r.reason[c] == kVotedOut;
+    r.seen_free += r.reason[c] == kSeenFree;
     r.hull_core += r.reason[c] == kHullCore;
     r.q_hull_exterior += r.reason[c] == kOutsideQHull;
   }

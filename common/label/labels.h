@@ -147,6 +147,16 @@ struct Options {
   // the grid: 183 interior cells in the air, 30 at 0.01, all within 1.5 cells of a wall;
   // docs/architecture.md, "Islands"). small_groups() below.
   double interior_min_share = 0;
+  // Conflicts between the labels from Q (finest cells; 0 = off): where a cell of the hidden rule
+  // (interior) and one of the votes or of seen free space (exterior) lie within this distance of
+  // each other (centroids), the interior cell is left free, and the exterior cell too unless the
+  // views hiding it put it deeper than interior_depth + conflict_cells behind Q's visible side
+  // (hidden_depth): beyond the reach of the shell. Contradicting evidence that close marks a wall,
+  // where neither rule is sure: Q's gaps let cells inside a wall's inner side look free over a
+  // cup's rim, and the shell under the outer side reaches past the inner side into the air (cup
+  // with dinoRing's cameras and the grid: 10 interior and 27 exterior cells wholly on the wrong
+  // side, none at 4.5; docs/architecture.md, "Conflicts"). resolve_conflicts() in labels.cpp.
+  double conflict_cells = 0;
   // Hull-core prior (0 = off): a cell, active or not, whose whole projection lies at least
   // this many pixels inside the silhouette in every view with a silhouette that it
   // projects into (at least min_occluding_views of them) is interior, whatever Q says;
@@ -222,6 +232,8 @@ struct Result {
   std::int64_t q_in_free_space = 0;  // points of Q dropped by drop_free_points
   std::int64_t interior_islands = 0;  // hidden cells left free by interior_min_share
   std::int64_t seen_free_islands = 0;  // seen-free cells left free by seen_free_min_cells
+  std::int64_t conflict_interior = 0;  // interior cells left free by conflict_cells
+  std::int64_t conflict_exterior = 0;  // exterior cells (votes, seen free space) left free by conflict_cells
   std::int64_t voted_out_near_hull = 0;  // cells the vote rule would make exterior, left free by voted_out_hull_depth
   std::int64_t seen_free = 0;  // cells labelled exterior by the seen-free-space rule (kSeenFree)
   std::int64_t too_deep = 0;   // cells that passed the hidden rule but lie deeper than interior_depth
@@ -267,6 +279,10 @@ std::vector<std::uint8_t> outside_visual_hull(const tet::TetMesh& m, const Scene
 // Visibility votes of Q (see top). offset in world units.
 std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s, const QPoints& q,
                                            double offset, std::int64_t* rays = nullptr);
+
+// Options::conflict_cells applied to r (its label, reason and hidden_depth; counts in
+// r.conflict_interior / conflict_exterior): see Options. cell: the finest cell size.
+void resolve_conflicts(const tet::TetMesh& m, const Options& o, double cell, Result& r);
 
 Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q, const Options& o);
 

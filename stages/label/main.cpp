@@ -64,6 +64,7 @@ int main(int argc, char** argv) {
     o.voted_out_hull_depth = ctx.params.d("label.voted_out_hull_depth");
     o.interior_min_share = ctx.params.d("label.interior_min_share");
     o.seen_free_min_cells = static_cast<int>(ctx.params.i("label.seen_free_min_cells"));
+    o.conflict_cells = ctx.params.d("label.conflict_cells");
     o.drop_free_points = ctx.params.b("label.drop_free_points");
     o.q_silhouettes = ctx.params.b("label.q_silhouettes");
     o.q_sil_close_px = ctx.params.d("label.q_sil_close_px");
@@ -101,6 +102,8 @@ int main(int argc, char** argv) {
     f.set_attr("/", "voted_out_near_hull", r.voted_out_near_hull);
     f.set_attr("/", "interior_islands", r.interior_islands);
     f.set_attr("/", "seen_free_islands", r.seen_free_islands);
+    f.set_attr("/", "conflict_interior", r.conflict_interior);
+    f.set_attr("/", "conflict_exterior", r.conflict_exterior);
     f.set_attr("/", "hull_core", r.hull_core);
     f.set_attr("/", "q_dropped", r.q_dropped);
     f.set_attr("/", "too_deep", r.too_deep);
@@ -127,7 +130,7 @@ int main(int argc, char** argv) {
        << r.hull_exterior << " hull, " << r.q_hull_exterior << " hull of Q, " << r.voted_out << " votes, " << r.seen_free << " seen free), " << r.hull_core << " interior by the hull core (" << r.q_dropped << " points of Q in it dropped), " << r.seed_core << " interior seeds by the hull core (Q gave none), "
        << r.q_sil_views << " silhouettes estimated from Q (" << r.q_outside_hull << " points of Q outside dropped), " << r.q_in_front_of_median << " points of Q in front of the median dropped, " << r.q_in_front_of_quantile
        << " in front of the depth quantile dropped, "
-       << r.q_in_free_space << " points of Q in free space dropped, " << r.too_deep << " hidden but too deep (left free), " << r.interior_islands << " hidden and " << r.seen_free_islands << " seen-free cells in islands (left free), " << r.voted_out_near_hull << " voted out but near the hull's surface (left free), " << r.rays << " rays, vote percentiles "
+       << r.q_in_free_space << " points of Q in free space dropped, " << r.too_deep << " hidden but too deep (left free), " << r.interior_islands << " hidden and " << r.seen_free_islands << " seen-free cells in islands (left free), " << r.voted_out_near_hull << " voted out but near the hull's surface (left free), " << r.conflict_interior << " interior and " << r.conflict_exterior << " exterior cells in conflict (left free), " << r.rays << " rays, vote percentiles "
        << r.low_votes << " / " << r.high_votes;
     ctx.summary = os.str();
   });
