@@ -42,6 +42,8 @@
 // of Q outside it are dropped as false matches before votes and depth maps. In such scenes
 // points of Q in front of Q's per-pixel median depth are dropped too
 // (Options::median_free_views), and the hidden rule takes Q's visible side from that median.
+// Conflicts (Options::conflict_cells, off by default): interior and exterior labels from Q that
+// come within a few cells of each other mark a wall where neither rule is sure; they are left free.
 // Seeds without Q (Options::seed_core_px): when Q gives no interior cell (a textureless
 // object has almost no Q), the hull core of the silhouettes supplies the interior.
 #pragma once
