@@ -114,15 +114,16 @@ int main(int argc, char** argv) {
     const TriMesh g = read_ply(gt);
     std::optional<label::LabelTruth> truth;
     if (!labels.empty()) {
+      // the ground truth is checked before the tet mesh (millions of cells) is read
+      require(g.nf() > 0, gt, ": --labels needs a ground-truth mesh with faces");
+      require(check_mesh(g).closed, gt,
+              ": --labels needs a closed ground-truth mesh (inside and outside are told by counting a ray's "
+              "crossings), this one has boundary or non-manifold edges");
       const tet::TetMesh m = tet::read_mesh(tetmesh);
       const auto lab = cut::read_labels(labels, m.num_cells());
       auto lf = h5::File::open(labels, "tetmvs.labels");
       std::vector<std::uint8_t> reason;
       if (lf.has("/cells/reason")) reason = lf.read<std::uint8_t>("/cells/reason", {m.num_cells()}).data;
-      require(g.nf() > 0, gt, ": --labels needs a ground-truth mesh with faces");
-      require(check_mesh(g).closed, gt,
-              ": --labels needs a closed ground-truth mesh (inside and outside are told by counting a ray's "
-              "crossings), this one has boundary or non-manifold edges");
       truth = label::check_labels(m, lab, reason, MeshBVH(g));
     }
     const std::vector<Camera> cams = load_cameras(cameras, w, h);
