@@ -95,7 +95,7 @@ void BM_ScorePoint(benchmark::State& st) {
 BENCHMARK(BM_ScorePoint)->Arg(5)->Arg(6)->Arg(8);
 
 // The photoconsist lattice-point kernel with the stage's defaults: 1 x 21 line
-// (photo.line_mu), best 12 cameras (photo.line_k, adaptive), 14 orientations.
+// (photo.line_mu), best 12 cameras (photo.point_k, adaptive), 14 orientations.
 void BM_ScorePointLine(benchmark::State& st) {
   const Views& v = ring_views();
   const Points& p = points();

@@ -312,6 +312,10 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
   const double fallback_fp = median(cam_fp);
 
   const photo::Views views(scene.cams, scene.grey, popt.use_silhouettes ? scene.sil : std::vector<cv::Mat>{});
+  // the texture force's image-pyramid levels (Options::texture_level)
+  std::vector<photo::Views> pyramid{views};
+  for (int l = 1; l <= opt.texture_pyramid; ++l) pyramid.push_back(views.reduced(l));
+  int texture_level = -1;
   std::vector<cv::Mat> sd(nc);
   for (int i = 0; i < nc; ++i)
     if (scene.has_silhouette(i)) sd[i] = signed_distance(scene.sil[i]);
@@ -371,8 +375,14 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
         for (int v = 0; v < nv; ++v) active[v] = !M.settled[v] || M.drift[v] >= opt.texture_settle_px;
       const std::vector<double> H =
           opt.texture_sag_rounds > 0 ? mean_curvature(M.V, N, topo, opt.texture_sag_rounds) : std::vector<double>{};
-      ftex = texture_force(M.V, N, M.fp, views, opt.occlusion ? vis : std::vector<std::uint8_t>{}, active, opt, popt,
-                           probes, H);
+      // coarse to fine: a vertex settled on a coarser level is probed again on the next
+      const int level = opt.texture_level(it);
+      if (level != texture_level) {
+        if (texture_level >= 0) std::fill(active.begin(), active.end(), 1);
+        texture_level = level;
+      }
+      ftex = texture_force(M.V, N, M.fp, pyramid[level], opt.occlusion ? vis : std::vector<std::uint8_t>{}, active, opt,
+                           popt, probes, H, static_cast<double>(1 << level));
       if (opt.texture_ring_weight > 0) {
         // the move toward the peak blended with the neighbours' (applied) offsets along n
         std::vector<Eigen::Vector3d> blended(ftex);

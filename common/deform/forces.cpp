@@ -354,7 +354,7 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
                                            const photo::Views& views, const std::vector<std::uint8_t>& vis,
                                            const std::vector<std::uint8_t>& active, const Options& opt,
                                            const photo::Options& popt, std::vector<TextureProbe>& probes,
-                                           const std::vector<double>& curvature) {
+                                           const std::vector<double>& curvature, double px_scale) {
   const int nv = static_cast<int>(V.size()), nc = views.size();
   std::vector<Eigen::Vector3d> out(nv, Eigen::Vector3d::Zero());
   probes.assign(nv, TextureProbe{});
@@ -417,7 +417,7 @@ std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V
         if (cb <= cos_bmin && cb >= cos_bmax) sel[np++] = cand[q].second;
       }
       if (np < opt.texture_min_partners) continue;
-      const double unit = fp[v];  // world length of one pixel along n
+      const double unit = fp[v] * px_scale;  // world length of one pixel (of these views) along n
       const double spacing = views[ref].project_h(X).z() * views[ref].inv_focal;
       const Eigen::Vector3d a1 = photo::stable_perpendicular(n) * spacing;
       const Eigen::Vector3d a2 = n.cross(a1);

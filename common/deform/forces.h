@@ -96,11 +96,14 @@ struct TextureProbe {
 // planar but the surface curves away from it: the plane that matches a convex patch best
 // lies inside the surface by the patch's mean sag, H * mean((i - c)^2) * spacing^2 (0.14
 // px on the synthetic torus' outside, measured); the offset is corrected by it.
+// views may be an image-pyramid level of the scene's (photo::Views::reduced): px_scale is
+// then its pixel size in full-resolution pixels (2^level), and the offsets, ranges and
+// steps above are in its pixels (fp stays the full resolution's footprint).
 std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V,
                                            const std::vector<Eigen::Vector3d>& N, const std::vector<double>& fp,
                                            const photo::Views& views, const std::vector<std::uint8_t>& vis,
                                            const std::vector<std::uint8_t>& active, const Options& opt,
                                            const photo::Options& popt, std::vector<TextureProbe>& probes,
-                                           const std::vector<double>& curvature = {});
+                                           const std::vector<double>& curvature = {}, double px_scale = 1.0);
 
 }  // namespace tetmvs::deform

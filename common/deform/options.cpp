@@ -60,6 +60,8 @@ void Options::check() const {
   require(finite_in(texture_ring_weight, 0, 1), "deform options: texture_ring_weight = ", texture_ring_weight,
           " must be in [0, 1]");
   require(texture_start >= 0, "deform options: texture_start = ", texture_start, " must be >= 0");
+  require(texture_pyramid >= 0 && texture_pyramid <= 4, "deform options: texture_pyramid = ", texture_pyramid,
+          " must lie in [0, 4]");
   require(finite_in(max_move_px, 1e-6, 100), "deform options: max_move_px = ", max_move_px, " must be in (0, 100]");
   require(finite_in(min_edge_px, 0, 1e6) && finite_in(max_edge_px, 0, 1e6) && max_edge_px > 2 * min_edge_px,
           "deform options: max_edge_px = ", max_edge_px, " must exceed 2 * min_edge_px = ", 2 * min_edge_px,
@@ -100,6 +102,7 @@ Options Options::from_params(const Params& p) {
   o.texture_settle_px = p.d("deform.texture_settle_px");
   o.texture_recheck = p.i("deform.texture_recheck");
   o.texture_start = p.i("deform.texture_start");
+  o.texture_pyramid = p.i("deform.texture_pyramid");
   o.texture_ring_weight = p.d("deform.texture_ring_weight");
   o.texture_sag_rounds = p.i("deform.texture_sag_rounds");
   o.occlusion = p.b("deform.occlusion");
@@ -111,6 +114,15 @@ Options Options::from_params(const Params& p) {
   o.intersection_retries = p.i("deform.intersection_retries");
   o.check();
   return o;
+}
+
+int Options::texture_level(int it) const {
+  const int n = iterations - texture_start;  // texture iterations
+  const int k = it - texture_start;
+  if (texture_pyramid <= 0 || n <= 1 || k < 0) return 0;
+  const int coarse = n / 2;  // iterations on levels texture_pyramid .. 1
+  if (k >= coarse) return 0;
+  return texture_pyramid - (k * texture_pyramid) / coarse;
 }
 
 }  // namespace tetmvs::deform

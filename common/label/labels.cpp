@@ -661,7 +661,14 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     pool.push_back(r.votes[c]);
   }
   r.low_votes = percentile(pool, o.low_percentile);
-  r.high_votes = percentile(pool, o.high_percentile);
+  // The high percentile is taken over the cells some ray crosses: cells no ray reaches say
+  // nothing about free space, and where they are most of the pool (a thin active band
+  // around an object whose unseen inside is all inactive) the percentile of all cells is 0
+  // and any few stray rays would make a cell exterior.
+  std::vector<std::int32_t> crossed;
+  for (const auto v : pool)
+    if (v > 0) crossed.push_back(v);
+  r.high_votes = percentile(crossed, o.high_percentile);
   auto depth = q_depth_maps(s, q, cell, o.seen_free_views > 0);
   // Without silhouettes the visible side for the hidden (interior) test is the median depth
   // of Q where at least 3 splats give one: false matches in front of the surface must not

@@ -8,17 +8,21 @@ namespace tetmvs::photo {
 
 void Scratch::reserve(int nv, const Options& opts) {
   if (nv == num_views && opts.k == k && opts.mu == mu) return;
+  if (nv != num_views) {
+    cache.assign(nv, ViewCache{});
+    cand.assign(nv, Candidate{});
+  }
   num_views = nv;
   k = opts.k;
   mu = opts.mu;
-  cache.assign(nv, ViewCache{});
-  cand.assign(nv, Candidate{});
   lanes = (k + 3) / 4 * 4;
-  samples.assign(static_cast<size_t>(lanes) * mu * mu, 0.f);
-  corr.assign(static_cast<size_t>(lanes) * lanes, 0.f);
-  views.assign(k, -1);
-  row.assign(k, 0.f);
-  row_idx.assign(k, -1);
+  // grown only: callers that switch between k (agreeing_views) do not reallocate
+  const std::size_t ns = static_cast<std::size_t>(lanes) * mu * mu, nc = static_cast<std::size_t>(lanes) * lanes;
+  if (samples.size() < ns) samples.assign(ns, 0.f);
+  if (corr.size() < nc) corr.assign(nc, 0.f);
+  if (static_cast<int>(views.size()) < k) views.assign(k, -1);
+  if (static_cast<int>(row.size()) < k) row.assign(k, 0.f);
+  if (static_cast<int>(row_idx.size()) < k) row_idx.assign(k, -1);
 }
 
 namespace detail {

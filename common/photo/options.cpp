@@ -18,6 +18,8 @@ void Options::check() const {
           " must be in (-1, 1) (an NCC threshold)");
   require(std::isfinite(min_std) && min_std >= 0.0 && min_std < 1.0, "photo options: min_std = ",
           min_std, " must be in [0, 1) (grey levels are in [0, 1])");
+  require(partners >= 0 && partners <= k - 1, "photo options: partners (k') = ", partners, " must lie in [0, k - 1 = ",
+          k - 1, "] (0: max(k/2, 3))");
 }
 
 Options Options::from_params(const Params& p) {

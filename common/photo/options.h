@@ -11,14 +11,14 @@ namespace photo {
 
 // Upper bounds that size the fixed arrays of the results (no allocation per call).
 inline constexpr int kMaxK = 16;
-inline constexpr int kMaxKPrime = kMaxK / 2;
+inline constexpr int kMaxKPrime = kMaxK - 1;
 inline constexpr int kMaxMu = 31;
 
 struct Options {
-  int mu = 11;             // patch size in samples: 1 x mu line (points), mu x mu grid (faces)
+  int mu = 7;              // patch size in samples: 1 x mu line or mu x mu grid
   int k = 5;               // cameras used per patch (the best k within the cone)
   double cone_deg = 60.0;  // max angle between the patch normal and the direction to a camera
-  double T = 0.9;          // a point is photo-consistent when its score > T (docs/photoconsist.md)
+  double T = 0.6;          // a point is photo-consistent when its score > T (docs/photoconsist.md)
   double min_std = 1e-3;   // patches whose grey std is below this are "constant": NCC = 0
   bool use_silhouettes = false;  // drop a view when the patch centre is outside its silhouette
   // Remove each patch's least-squares linear ramp (per axis) before the NCC
@@ -33,13 +33,28 @@ struct Options {
   // When fewer than k views are usable, score with the m usable ones (k' = max(m/2, 3),
   // defined for m >= 4) instead of leaving the patch undefined below k'+1 views. Lets a
   // large k (wide baselines on dense rings) degrade gracefully on sparse camera sets.
-  // Set by photoconsist for its lattice points (photo.line_k); off by default.
+  // Set by photoconsist for its lattice points (photo.point_k); off by default.
   bool adaptive_k = false;
 
   // k' = max(k/2, 3): each camera's score is the mean of its best k' NCCs.
-  int k_prime() const { return std::max(k / 2, 3); }
+  // k', the partners whose NCCs make a reference's score: 0 is the paper's max(k/2, 3);
+  // otherwise that many (at most k - 1; k - 1 makes every pair count, the widest baselines
+  // included, which narrows the band of high scores around the surface: docs/photo.md).
+  int partners = 0;
+
+  int k_prime() const { return partners > 0 ? partners : std::max(k / 2, 3); }
   // Fewest usable cameras for a defined score: the reference plus k' partners.
   int min_cams() const { return k_prime() + 1; }
+  // Fewest usable views for a defined score: k' + 1, or with adaptive_k at most 4.
+  int min_views() const { return adaptive_k ? std::min(k_prime() + 1, 4) : k_prime() + 1; }
+  // k' when `used` views (>= min_views()) are usable: with adaptive_k and fewer than k
+  // views, max(used/2, 3) (the paper's rule) or, when partners is set, used - 1 minus as
+  // many as k - 1 - partners (the same number of worst NCCs left out).
+  int partners_for(int used) const {
+    if (!adaptive_k || used >= k) return k_prime();
+    // with partners set, as many of each reference's worst NCCs left out as with k views
+    return partners > 0 ? std::max(1, used - 1 - (k - 1 - partners)) : std::max(used / 2, 3);
+  }
   // Throws tetmvs::Error naming the bad value.
   void check() const;
   // Reads photo.mu, photo.k, photo.cone_deg, photo.T, photo.min_std, photo.use_silhouettes, photo.detrend,

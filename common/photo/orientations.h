@@ -6,10 +6,12 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
 
 namespace tetmvs::photo {
 
 inline constexpr int kNumOrientations = 14;
+inline constexpr std::uint16_t kAllOrientations = (1u << kNumOrientations) - 1;
 
 inline const std::array<Eigen::Vector3d, kNumOrientations>& orientations() {
   static const std::array<Eigen::Vector3d, kNumOrientations> dirs = [] {
@@ -38,6 +40,16 @@ inline int nearest_orientation(const Eigen::Vector3d& n) {
     if (d > bd) bd = d, best = i;
   }
   return best;
+}
+
+// Orientation o and its neighbours, as a mask (bit i = orientations()[i]): the orientations
+// within 55 degrees of it (an axis direction's four diagonals, a diagonal's three axes), the
+// ones a normal closer to o than to any other orientation can be nearest to second.
+inline std::uint16_t orientation_and_neighbours(int o) {
+  std::uint16_t m = 0;
+  for (int i = 0; i < kNumOrientations; ++i)
+    if (orientations()[i].dot(orientations()[o]) > 0.5) m |= static_cast<std::uint16_t>(1u << i);
+  return m;
 }
 
 // A unit vector perpendicular to unit n that depends only on n: n x e_a normalized,

@@ -21,12 +21,35 @@ struct PointResult : PatchResult {
   bool consistent(const Options& o) const { return valid() && score > o.T; }
 };
 
-// Best orientation at X on a face of normal nf (unit or not; nonzero). Ties between
-// orientations go to the lower index. When per_orientation is given it receives each
+// Best orientation at X on a face of normal nf (unit or not; nonzero; unused by grid
+// patches), among the orientations whose bit is set in orientation_mask (bit o for
+// orientations()[o]; all 14 by default). Ties between orientations go to the lower index. When per_orientation is given it receives each
 // orientation's score (kNoScore where undefined).
 PointResult score_point(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nf,
                         const Options& opts, Scratch& scratch,
-                        std::array<float, kNumOrientations>* per_orientation = nullptr);
+                        std::array<float, kNumOrientations>* per_orientation = nullptr,
+                        std::uint16_t orientation_mask = kAllOrientations);
+
+// Where the best orientation of `best` (a valid result of score_point at X on a face of
+// normal nf) scores highest along its normal in the same views: the offset, in samples
+// (best.spacing), among -steps..steps, refined by a parabola through the best sample and
+// its neighbours; *peak_score receives the best sample's score. 0 (and best.score) when
+// best is invalid or no offset scores higher.
+double peak_offset(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nf, const PointResult& best,
+                   const Options& opts, Scratch& scratch, int steps, float* peak_score = nullptr);
+
+// The views a point of Q is visible in: best's reference and the views among the kMaxK
+// nearest to best's orientation (within the cone) whose patch at X agrees with the
+// reference's (NCC above min_ncc; agreeing_views in patch.h), best first, at most
+// max_views in all. Writes them to out (room for kMaxK) and returns their count (0 when
+// best is invalid).
+int visible_views(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nf, const PointResult& best,
+                  double min_ncc, int max_views, const Options& opts, Scratch& scratch, int* out);
+
+// score_point's patch of the one orientation o (0 .. kNumOrientations-1): its result as
+// score_point would give it had o been the best.
+PointResult score_orientation(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nf, int o,
+                              const Options& opts, Scratch& scratch);
 
 // score_point for n points (X and nf: n x 3 row-major doubles), OpenMP-parallel with
 // one Scratch per thread; out[i] does not depend on the thread count.

@@ -137,21 +137,81 @@ bool sample_line(const View& v, const Eigen::Vector3d& h0, const Eigen::Vector3d
 #endif
 }
 
-// Samples the mu x mu grid h0 + (j - c) b2 + (i - c) b1 into col[(j mu + i) L].
+// Samples the mu x mu grid around h0 into col[(j mu + i) L]: sample (i, j) at the affine
+// (first-order) projection of h0 + (i - c) b1 + (j - c) b2 about the centre,
+//   u = u0 + (i - c) du1 + (j - c) du2,  v = v0 + (i - c) dv1 + (j - c) dv2,
+// u0 = h0.x / h0.z, du = (b.x - u0 b.z) / h0.z (and likewise v). On a patch of a few pixels
+// this differs from the exact perspective projection by far less than a hundredth of a
+// pixel, and it needs no division per sample. False when the centre is behind the camera
+// or a sample falls outside the image.
 bool sample_grid(const View& v, const Eigen::Vector3d& h0, const Eigen::Vector3d& b1, const Eigen::Vector3d& b2,
                  int mu, float* col, int L) {
+  if (!(h0.z() > 0)) return false;
+  const GridAxes g = grid_axes(h0, b1, b2);
   const int c = mu / 2;
   const float* data = v.grey.ptr<float>(0);
   const std::size_t step = v.grey.step1();
+  // Fast path when the patch's bounding box is strictly inside the image: every sample's
+  // truncation is its floor and its 2 x 2 neighbourhood is inside (as in sample_fast).
+  const double ru = c * (std::abs(g.du1) + std::abs(g.du2)), rv = c * (std::abs(g.dv1) + std::abs(g.dv2));
+  const bool inside = g.u0 - ru >= 0.0 && g.v0 - rv >= 0.0 && g.u0 + ru < static_cast<double>(v.width - 1) &&
+                      g.v0 + rv < static_cast<double>(v.height - 1);
   for (int j = 0; j < mu; ++j) {
-    const Eigen::Vector3d hj = h0 + static_cast<double>(j - c) * b2;
-    for (int i = 0; i < mu; ++i) {
-      const Eigen::Vector3d h = hj + static_cast<double>(i - c) * b1;
-      if (!(h.z() > 0)) return false;
-      const double iw = 1.0 / h.z();
-      if (!sample_fast(data, step, v.width, v.height, v.grey, h.x() * iw, h.y() * iw,
-                       col[static_cast<std::size_t>(j * mu + i) * L]))
-        return false;
+    const double tj = static_cast<double>(j - c);
+    const double uj = g.u0 + tj * g.du2, vj = g.v0 + tj * g.dv2;
+    float* out = col + static_cast<std::size_t>(j * mu) * L;
+    if (inside) {
+      int i = 0;
+#if defined(__SSE2__)
+      // four samples per step, each lane doing the scalar operations below
+      const __m128d du = _mm_set1_pd(g.du1), dv = _mm_set1_pd(g.dv1), u0j = _mm_set1_pd(uj), v0j = _mm_set1_pd(vj);
+      const __m128 onef = _mm_set1_ps(1.f);
+      for (; i + 4 <= mu; i += 4) {
+        const __m128d ta = _mm_set_pd(static_cast<double>(i + 1 - c), static_cast<double>(i - c));
+        const __m128d tb = _mm_set_pd(static_cast<double>(i + 3 - c), static_cast<double>(i + 2 - c));
+        const __m128d ua = _mm_add_pd(u0j, _mm_mul_pd(ta, du)), ub = _mm_add_pd(u0j, _mm_mul_pd(tb, du));
+        const __m128d va = _mm_add_pd(v0j, _mm_mul_pd(ta, dv)), vb = _mm_add_pd(v0j, _mm_mul_pd(tb, dv));
+        const __m128i iua = _mm_cvttpd_epi32(ua), iub = _mm_cvttpd_epi32(ub);
+        const __m128i iva = _mm_cvttpd_epi32(va), ivb = _mm_cvttpd_epi32(vb);
+        const __m128 a = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(ua, _mm_cvtepi32_pd(iua))),
+                                       _mm_cvtpd_ps(_mm_sub_pd(ub, _mm_cvtepi32_pd(iub))));
+        const __m128 b = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(va, _mm_cvtepi32_pd(iva))),
+                                       _mm_cvtpd_ps(_mm_sub_pd(vb, _mm_cvtepi32_pd(ivb))));
+        alignas(16) int iu[4], iv[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(iu), _mm_unpacklo_epi64(iua, iub));
+        _mm_store_si128(reinterpret_cast<__m128i*>(iv), _mm_unpacklo_epi64(iva, ivb));
+        alignas(16) float p00[4], p01[4], p10[4], p11[4];
+        for (int q = 0; q < 4; ++q) {
+          const float* r0 = data + static_cast<std::size_t>(iv[q]) * step + iu[q];
+          p00[q] = r0[0];
+          p01[q] = r0[1];
+          p10[q] = r0[step];
+          p11[q] = r0[step + 1];
+        }
+        const __m128 oma = _mm_sub_ps(onef, a), omb = _mm_sub_ps(onef, b);
+        const __m128 top = _mm_add_ps(_mm_mul_ps(oma, _mm_load_ps(p00)), _mm_mul_ps(a, _mm_load_ps(p01)));
+        const __m128 bot = _mm_add_ps(_mm_mul_ps(oma, _mm_load_ps(p10)), _mm_mul_ps(a, _mm_load_ps(p11)));
+        alignas(16) float o[4];
+        _mm_store_ps(o, _mm_add_ps(_mm_mul_ps(omb, top), _mm_mul_ps(b, bot)));
+        for (int q = 0; q < 4; ++q) out[static_cast<std::size_t>(i + q) * L] = o[q];
+      }
+#endif
+      for (; i < mu; ++i) {
+        const double ti = static_cast<double>(i - c);
+        const double u = uj + ti * g.du1, w = vj + ti * g.dv1;
+        const int u0 = static_cast<int>(u), v0 = static_cast<int>(w);
+        const float a = static_cast<float>(u - u0), b = static_cast<float>(w - v0);
+        const float* r0 = data + static_cast<std::size_t>(v0) * step + u0;
+        const float* r1 = r0 + step;
+        out[static_cast<std::size_t>(i) * L] = (1 - b) * ((1 - a) * r0[0] + a * r0[1]) + b * ((1 - a) * r1[0] + a * r1[1]);
+      }
+    } else {
+      for (int i = 0; i < mu; ++i) {
+        const double ti = static_cast<double>(i - c);
+        if (!sample_fast(data, step, v.width, v.height, v.grey, uj + ti * g.du1, vj + ti * g.dv1,
+                         out[static_cast<std::size_t>(i) * L]))
+          return false;
+      }
     }
   }
   return true;
@@ -268,49 +328,17 @@ void correlate(const float* S, int ns, int L, int used, float* C) {
 
 }  // namespace
 
-void score_prepared(const Views& views, const Eigen::Vector3d& n, const Eigen::Vector3d& a1,
-                    const Eigen::Vector3d* a2, const Options& opts, Scratch& s, PatchResult& out) {
-  out = PatchResult{};
-  const int m = gather_candidates(views, n, opts, s);
-  const int k = opts.k, need = opts.adaptive_k ? std::min(opts.k_prime() + 1, 4) : opts.k_prime() + 1;
-  int kp = opts.k_prime();
-  const int top = std::min(m, k);
-  double spacing = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < top; ++i) {
-    const int v = s.cand[i].view;
-    spacing = std::min(spacing, s.cache[v].h0.z() * views[v].inv_focal);
-  }
-  if (top > 0) out.spacing = static_cast<float>(spacing);
-  if (m < need) return;
+namespace {
 
-  const int mu = opts.mu;
-  const int ns = a2 ? mu * mu : mu;
+// The end of the measure, on the samples of `used` views in S (columns in order of
+// preference, slot t holding view s.views[t]): normalizes every column, correlates every
+// pair and picks the reference whose best kp NCCs have the highest mean.
+void finish(int used, int kp, int mu, int rows, const Options& opts, Scratch& s, PatchResult& out) {
   const int L = s.lanes;
   float* S = s.samples.data();
-  const Eigen::Vector3d d1 = a1 * spacing;
-  const Eigen::Vector3d d2 = a2 ? Eigen::Vector3d(*a2 * spacing) : Eigen::Vector3d::Zero();
-  int used = 0;
-  bool rest_sorted = (top == m);
-  for (int ci = 0; ci < m && used < k; ++ci) {
-    if (used + (m - ci) < need) break;  // too few candidates left: cannot become defined
-    if (ci == top && !rest_sorted) {
-      std::sort(s.cand.begin() + top, s.cand.begin() + m, better_candidate);
-      rest_sorted = true;
-    }
-    const int v = s.cand[ci].view;
-    const View& view = views[v];
-    const Eigen::Vector3d b1 = view.project_dir(d1);
-    const bool ok = a2 ? sample_grid(view, s.cache[v].h0, b1, view.project_dir(d2), mu, S + used, L)
-                       : sample_line(view, s.cache[v].h0, b1, mu, S + used, L);
-    if (!ok) continue;
-    s.views[used++] = v;
-  }
-  if (used < need) return;
-  if (opts.adaptive_k && used < k) kp = std::max(used / 2, 3);
-
-  normalize_columns(S, mu, a2 ? mu : 1, L, used, static_cast<float>(opts.min_std), opts.detrend);
+  normalize_columns(S, mu, rows, L, used, static_cast<float>(opts.min_std), opts.detrend);
   float* C = s.corr.data();
-  correlate(S, ns, L, used, C);
+  correlate(S, mu * rows, L, used, C);
 
   // Each view as reference: mean of its best k' NCCs, summed in descending order (as a
   // sort of its row would); the best reference wins (ties: the earlier view, i.e. the
@@ -368,13 +396,78 @@ void score_prepared(const Views& views, const Eigen::Vector3d& n, const Eigen::V
       if (j != best_r) idx[q++] = j;
     std::partial_sort(idx, idx + kp, idx + q,
                       [Cr](int a, int b) { return Cr[a] > Cr[b] || (Cr[a] == Cr[b] && a < b); });
-    for (int t = 0; t < kp; ++t) out.partners[t] = s.views[idx[t]];
+    for (int t = 0; t < kp; ++t) {
+      out.partners[t] = s.views[idx[t]];
+      out.partner_ncc[t] = Cr[idx[t]];
+    }
   }
   out.score = best;
   out.ref = s.views[best_r];
   out.num_partners = kp;
   out.num_views = used;
   for (int i = 0; i < used; ++i) out.views[i] = s.views[i];
+}
+
+// Samples the patch (line along d1, or grid along d1 and d2: world steps of one sample)
+// centred at homogeneous projection h0 of view v into column `slot` of the samples.
+bool sample_patch(const View& view, const Eigen::Vector3d& h0, const Eigen::Vector3d& d1, const Eigen::Vector3d* d2,
+                  int mu, Scratch& s, int slot) {
+  float* S = s.samples.data() + slot;
+  const Eigen::Vector3d b1 = view.project_dir(d1);
+  return d2 ? sample_grid(view, h0, b1, view.project_dir(*d2), mu, S, s.lanes) : sample_line(view, h0, b1, mu, S, s.lanes);
+}
+
+}  // namespace
+
+void score_prepared(const Views& views, const Eigen::Vector3d& n, const Eigen::Vector3d& a1,
+                    const Eigen::Vector3d* a2, const Options& opts, Scratch& s, PatchResult& out) {
+  out = PatchResult{};
+  const int m = gather_candidates(views, n, opts, s);
+  const int k = opts.k, need = opts.min_views();
+  const int top = std::min(m, k);
+  double spacing = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < top; ++i) {
+    const int v = s.cand[i].view;
+    spacing = std::min(spacing, s.cache[v].h0.z() * views[v].inv_focal);
+  }
+  if (top > 0) out.spacing = static_cast<float>(spacing);
+  if (m < need) return;
+
+  const int mu = opts.mu;
+  const Eigen::Vector3d d1 = a1 * spacing;
+  const Eigen::Vector3d d2 = a2 ? Eigen::Vector3d(*a2 * spacing) : Eigen::Vector3d::Zero();
+  int used = 0;
+  bool rest_sorted = (top == m);
+  for (int ci = 0; ci < m && used < k; ++ci) {
+    if (used + (m - ci) < need) break;  // too few candidates left: cannot become defined
+    if (ci == top && !rest_sorted) {
+      std::sort(s.cand.begin() + top, s.cand.begin() + m, better_candidate);
+      rest_sorted = true;
+    }
+    const int v = s.cand[ci].view;
+    if (!sample_patch(views[v], s.cache[v].h0, d1, a2 ? &d2 : nullptr, mu, s, used)) continue;
+    s.views[used++] = v;
+  }
+  if (used < need) return;
+  finish(used, opts.partners_for(used), mu, a2 ? mu : 1, opts, s, out);
+}
+
+void score_in_views(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& a1,
+                    const Eigen::Vector3d* a2, double spacing, const int* view_list, int count, int kp,
+                    const Options& opts, Scratch& s, PatchResult& out) {
+  out = PatchResult{};
+  s.reserve(views.size(), opts);
+  if (count < 2 || kp < 1 || kp >= count) return;
+  const int mu = opts.mu;
+  const Eigen::Vector3d d1 = a1 * spacing;
+  const Eigen::Vector3d d2 = a2 ? Eigen::Vector3d(*a2 * spacing) : Eigen::Vector3d::Zero();
+  for (int t = 0; t < count; ++t) {
+    const View& view = views[view_list[t]];
+    if (!sample_patch(view, view.project_h(X), d1, a2 ? &d2 : nullptr, mu, s, t)) return;
+    s.views[t] = view_list[t];
+  }
+  out.spacing = static_cast<float>(spacing);
+  finish(count, kp, mu, a2 ? mu : 1, opts, s, out);
 }
 
 }  // namespace detail
@@ -403,6 +496,46 @@ PatchResult score_patch(const Views& views, const Eigen::Vector3d& X, const Eige
   detail::prepare_centre(views, X, opts, scratch);
   detail::score_prepared(views, u, a1, &a2, opts, scratch, out);
   return out;
+}
+
+int agreeing_views(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& n, const Eigen::Vector3d& a1,
+                   const Eigen::Vector3d* a2, double spacing, int ref, double min_ncc, int max_views,
+                   const Options& opts, Scratch& s, int* out) {
+  Options o = opts;
+  o.k = std::clamp(max_views, 1, kMaxK);
+  detail::prepare_centre(views, X, o, s);
+  const int m = detail::gather_candidates(views, n, o, s);
+  const int top = std::min(m, o.k);
+  const int L = s.lanes, mu = o.mu, rows = a2 ? mu : 1;
+  const Eigen::Vector3d d1 = a1 * spacing;
+  const Eigen::Vector3d d2 = a2 ? Eigen::Vector3d(*a2 * spacing) : Eigen::Vector3d::Zero();
+  // the reference first (slot 0), then the other candidates
+  int used = 0, ref_slot = -1;
+  const View& rv = views[ref];
+  if (ref >= 0 && ref < views.size() && detail::sample_patch(rv, rv.project_h(X), d1, a2 ? &d2 : nullptr, mu, s, 0)) {
+    s.views[0] = ref;
+    used = 1;
+    ref_slot = 0;
+  }
+  if (ref_slot < 0) return 0;
+  for (int ci = 0; ci < top; ++ci) {
+    const int v = s.cand[ci].view;
+    if (v == ref) continue;
+    if (!detail::sample_patch(views[v], s.cache[v].h0, d1, a2 ? &d2 : nullptr, mu, s, used)) continue;
+    s.views[used++] = v;
+  }
+  float* S = s.samples.data();
+  detail::normalize_columns(S, mu, rows, L, used, static_cast<float>(o.min_std), o.detrend);
+  std::pair<float, int> agree[kMaxK];
+  int na = 0;
+  for (int t = 1; t < used; ++t) {
+    float dot = 0.f;
+    for (int i = 0; i < mu * rows; ++i) dot += S[static_cast<std::size_t>(i) * L] * S[static_cast<std::size_t>(i) * L + t];
+    if (dot > min_ncc) agree[na++] = {dot, s.views[t]};
+  }
+  std::sort(agree, agree + na, [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+  for (int t = 0; t < na; ++t) out[t] = agree[t].second;
+  return na;
 }
 
 }  // namespace tetmvs::photo

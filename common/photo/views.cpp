@@ -1,6 +1,8 @@
 #include "common/photo/views.h"
 
+#include <algorithm>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
 
@@ -48,6 +50,37 @@ Views::Views(const std::vector<Camera>& cams, const std::vector<cv::Mat>& grey,
       has_sil_ = true;
     }
   }
+}
+
+Views Views::reduced(int level) const {
+  require(level >= 0 && level <= 12, "photo::Views::reduced: pyramid level ", level, " must lie in [0, 12]");
+  Views out = *this;
+  if (level == 0) return out;
+  for (View& v : out.views_) {
+    cv::Mat g = v.grey;
+    for (int l = 0; l < level; ++l) {
+      require(g.cols >= 2 && g.rows >= 2, "photo::Views::reduced: a ", v.width, "x", v.height,
+              " image has no pyramid level ", level);
+      cv::Mat d;
+      cv::pyrDown(g, d);
+      g = d;
+    }
+    const double s = 1.0 / static_cast<double>(1 << level);
+    v.P.topRows<2>() *= s;
+    v.inv_focal /= s;
+    if (!v.sil.empty()) {
+      cv::Mat m(g.rows, g.cols, CV_8U);
+      const int f = 1 << level;
+      for (int y = 0; y < g.rows; ++y)
+        for (int x = 0; x < g.cols; ++x)
+          m.at<unsigned char>(y, x) = v.sil.at<unsigned char>(std::min(y * f, v.sil.rows - 1), std::min(x * f, v.sil.cols - 1));
+      v.sil = m;
+    }
+    v.grey = g;
+    v.width = g.cols;
+    v.height = g.rows;
+  }
+  return out;
 }
 
 }  // namespace tetmvs::photo

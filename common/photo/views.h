@@ -40,6 +40,12 @@ class Views {
   int size() const { return static_cast<int>(views_.size()); }
   const View& operator[](int i) const { return views_[i]; }
   bool has_silhouettes() const { return has_sil_; }
+  // The same views at image-pyramid level `level` (>= 0): each grey image reduced `level`
+  // times by cv::pyrDown (Gaussian 5-tap, then every other pixel), the projections scaled
+  // so that pixel (u, v) of the reduced image is pixel (2^level u, 2^level v) of the original
+  // (pyrDown centres output pixel i on input pixel 2i), silhouettes reduced by nearest
+  // sampling at those pixels. Level 0 is a shallow copy. Pixel footprints grow by 2^level.
+  Views reduced(int level) const;
 
  private:
   std::vector<View> views_;

@@ -55,6 +55,7 @@ void write_face_cache(h5::File& f, const FaceCache& c, const std::string& g) {
   f.set_attr(g, "level", static_cast<std::int64_t>(c.level));
   f.set_attr(g, "lattice", c.lattice);
   f.set_attr(g, "signature", c.signature);
+  f.set_attr(g, "pyramid", static_cast<std::int64_t>(c.pyramid));
 }
 
 FaceCache read_face_cache(const h5::File& f, const std::string& g) {
@@ -70,6 +71,8 @@ FaceCache read_face_cache(const h5::File& f, const std::string& g) {
   c.level = static_cast<int>(f.attr_int(g, "level"));
   c.lattice = f.attr_doubles(g, "lattice");
   c.signature = f.attr_string(g, "signature");
+  c.pyramid = static_cast<int>(f.attr_int(g, "pyramid"));
+  require(c.pyramid >= 0 && c.pyramid <= 12, fn, ": ", g, " attribute pyramid = ", c.pyramid, " must lie in [0, 12]");
   require(c.offsets[0] == 0 && c.offsets[C] == static_cast<std::int64_t>(c.codes.size()), fn, ": ", g,
           "/offsets must start at 0 and end at the length of ", g, "/codes");
   for (std::int64_t e = 0; e < C; ++e) {

@@ -27,6 +27,7 @@ struct FaceCache {
   std::vector<double> lattice;  // origin xyz, h, dims xyz (as doubles)
   std::string signature;        // Options::cache_signature()
   int level = -1;               // level of the mesh the faces belong to
+  int pyramid = 0;              // image-pyramid level the codes were scored on (level_scale.h)
 
   std::int64_t size() const { return static_cast<std::int64_t>(face.size()); }
   // Entry of face id f, or -1.

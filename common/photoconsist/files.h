@@ -13,7 +13,7 @@ namespace h5 { class File; }
 namespace photoconsist {
 
 inline constexpr const char* kLevelSchema = "tetmvs.photoconsist";
-inline constexpr int kLevelVersion = 1;
+inline constexpr int kLevelVersion = 2;
 inline constexpr const char* kScoresSchema = "tetmvs.scores";
 inline constexpr int kScoresVersion = 1;
 

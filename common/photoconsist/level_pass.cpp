@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
+#include <optional>
+#include <unordered_map>
 
 #include "common/error.h"
 #include "common/log.h"
@@ -34,6 +37,7 @@ namespace {
 struct FaceWork {
   int n = 0;
   bool reused = false;
+  bool outside = false;              // fresh face wholly outside the hull (HullTest::triangle_outside)
   std::vector<std::uint16_t> codes;  // empty when every point is outside the hull (fresh faces)
 };
 
@@ -41,6 +45,158 @@ struct FaceWork {
 inline Eigen::Vector3d lattice_point(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                                      int n, int i, int j) {
   return a + (static_cast<double>(i) / n) * (b - a) + (static_cast<double>(j) / n) * (c - a);
+}
+
+// The distinct points of the fresh (not reused, not wholly outside) faces' lattices.
+struct FreshPoints {
+  // Per tested face, the offset of its lattice's slots in `id` (fresh faces only).
+  std::vector<std::int64_t> offset;
+  std::vector<std::int32_t> id;  // per slot, its distinct point
+  // Per distinct point: its position as weights on two (or three) mesh vertices, and the
+  // first face (index into the tested faces) whose lattice holds it.
+  std::vector<std::array<std::int32_t, 3>> vert;
+  std::vector<std::array<double, 3>> weight;
+  std::vector<std::int64_t> face_of;
+  const tet::TetMesh* mesh = nullptr;
+  std::int64_t size() const { return static_cast<std::int64_t>(face_of.size()); }
+  Eigen::Vector3d position(std::int64_t u) const {
+    const auto& v = vert[u];
+    const auto& w = weight[u];
+    Eigen::Vector3d X = w[0] * mesh->vertex(v[0]);
+    if (w[1] != 0) X += w[1] * mesh->vertex(v[1]);
+    if (w[2] != 0) X += w[2] * mesh->vertex(v[2]);
+    return X;
+  }
+};
+
+// Numbers the lattice points of the fresh faces in face order. With `share`, a mesh
+// vertex is one point whatever the faces, and the n - 1 inner points of an edge are the
+// same points on every face of the same n that has the edge (ordered from the edge's
+// lower vertex id, so the position does not depend on the face); otherwise every slot is
+// its own point.
+FreshPoints number_fresh_points(const tet::TetMesh& m, const std::vector<std::int32_t>& faces,
+                                const std::vector<FaceWork>& work, bool share) {
+  FreshPoints P;
+  P.mesh = &m;
+  const std::int64_t T = static_cast<std::int64_t>(faces.size());
+  P.offset.assign(T, -1);
+  std::int64_t slots = 0;
+  for (std::int64_t t = 0; t < T; ++t)
+    if (!work[t].reused && !work[t].outside) P.offset[t] = slots, slots += lattice_size(work[t].n);
+  P.id.resize(static_cast<std::size_t>(slots));
+  std::vector<std::int32_t> vertex_id(share ? m.num_vertices() : 0, -1);
+  struct EdgeKey {
+    std::int32_t lo, hi, n;
+    bool operator==(const EdgeKey&) const = default;
+  };
+  struct EdgeHash {
+    std::size_t operator()(const EdgeKey& k) const {
+      std::uint64_t h = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.lo)) << 32) | static_cast<std::uint32_t>(k.hi);
+      h ^= static_cast<std::uint64_t>(k.n) * 0x9E3779B97F4A7C15ull;
+      h ^= h >> 29;
+      h *= 0xBF58476D1CE4E5B9ull;
+      return static_cast<std::size_t>(h ^ (h >> 32));
+    }
+  };
+  std::unordered_map<EdgeKey, std::int32_t, EdgeHash> edge_base;  // (lo, hi, n) -> first inner point
+  const auto add = [&](std::array<std::int32_t, 3> v, std::array<double, 3> w, std::int64_t t) {
+    require(P.face_of.size() < static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()),
+            "photoconsist: more than 2^31 lattice points at one level");
+    P.vert.push_back(v);
+    P.weight.push_back(w);
+    P.face_of.push_back(t);
+    return static_cast<std::int32_t>(P.face_of.size() - 1);
+  };
+  for (std::int64_t t = 0; t < T; ++t) {
+    if (P.offset[t] < 0) continue;
+    const int n = work[t].n;
+    const auto fv = m.face_vertices(faces[t]);
+    std::int64_t p = P.offset[t];
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i + j <= n; ++i, ++p) {
+        // weights (n - i - j, i, j) on (fv[0], fv[1], fv[2])
+        const int wt[3] = {n - i - j, i, j};
+        const int zeros = (wt[0] == 0) + (wt[1] == 0) + (wt[2] == 0);
+        if (share && zeros == 2) {
+          const std::int32_t v = fv[wt[0] ? 0 : (wt[1] ? 1 : 2)];
+          if (vertex_id[v] < 0) vertex_id[v] = add({v, v, v}, {1.0, 0.0, 0.0}, t);
+          P.id[p] = vertex_id[v];
+        } else if (share && zeros == 1) {
+          const int k0 = wt[0] == 0 ? 1 : 0, k1 = wt[2] == 0 ? 1 : 2;  // the two vertices with weight
+          std::int32_t lo = fv[k0], hi = fv[k1];
+          int s = wt[k1];  // steps from fv[k0] toward fv[k1]
+          if (lo > hi) std::swap(lo, hi), s = n - s;
+          const EdgeKey key{lo, hi, n};
+          auto it = edge_base.find(key);
+          if (it == edge_base.end()) {
+            std::int32_t base = -1;
+            for (int q = 1; q < n; ++q) {
+              const double b = static_cast<double>(q) / n;
+              const std::int32_t id = add({lo, hi, hi}, {1.0 - b, b, 0.0}, t);
+              if (q == 1) base = id;
+            }
+            it = edge_base.emplace(key, base).first;
+          }
+          P.id[p] = it->second + s - 1;
+        } else {
+          P.id[p] = add({fv[0], fv[1], fv[2]},
+                        {static_cast<double>(wt[0]) / n, static_cast<double>(wt[1]) / n, static_cast<double>(wt[2]) / n}, t);
+        }
+      }
+  }
+  return P;
+}
+
+// The orientations worth scoring near the points of a previous level (LevelInput::prior).
+class OrientationPrior {
+ public:
+  OrientationPrior(const QPoints& q, double radius) : q_(q), r_(radius) {
+    for (std::int64_t p = 0; p < q.size(); ++p) cells_[key(bucket(q.pos(p)))].push_back(p);
+  }
+  // Union of orientation_and_neighbours over the points within the radius of X (all
+  // orientations when there is none).
+  std::uint16_t mask(const Eigen::Vector3d& X) const {
+    std::uint16_t m = 0;
+    const Eigen::Vector3i b = bucket(X);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = cells_.find(key(b + Eigen::Vector3i(dx, dy, dz)));
+          if (it == cells_.end()) continue;
+          for (const std::int64_t p : it->second)
+            if ((q_.pos(p) - X).squaredNorm() <= r_ * r_)
+              m |= photo::orientation_and_neighbours(photo::nearest_orientation(q_.nrm(p)));
+        }
+    return m ? m : photo::kAllOrientations;
+  }
+
+ private:
+  Eigen::Vector3i bucket(const Eigen::Vector3d& X) const { return (X / r_).array().floor().cast<int>(); }
+  static std::int64_t key(const Eigen::Vector3i& b) {
+    return (static_cast<std::int64_t>(b.x() & 0x1FFFFF) << 42) | (static_cast<std::int64_t>(b.y() & 0x1FFFFF) << 21) |
+           static_cast<std::int64_t>(b.z() & 0x1FFFFF);
+  }
+  const QPoints& q_;
+  double r_;
+  std::unordered_map<std::int64_t, std::vector<std::int64_t>> cells_;
+};
+
+// The code of lattice point X of a face of normal nf: score_point among `mask`'s
+// orientations, and with Options::crest_px the crest test: a point above T is
+// photo-consistent only when the score's crest along its best orientation's normal (in the
+// same views) lies within crest_px samples of it. *orientation receives the best one.
+std::uint16_t point_code(const photo::Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nf,
+                         const Options& opts, photo::Scratch& scratch, std::uint16_t mask = photo::kAllOrientations,
+                         std::int8_t* orientation = nullptr) {
+  const photo::PointResult pr = photo::score_point(views, X, nf, opts.line, scratch, nullptr, mask);
+  if (orientation) *orientation = static_cast<std::int8_t>(pr.orientation);
+  std::uint16_t code = encode_point(pr, opts.line);
+  if (opts.crest_px > 0 && code_is_consistent(code)) {
+    const int steps = static_cast<int>(std::ceil(opts.crest_px)) + 1;
+    const double off = photo::peak_offset(views, X, nf, pr, opts.line, scratch, steps);
+    if (std::abs(off) > opts.crest_px) code = static_cast<std::uint16_t>(code & ~kCodeConsistent);
+  }
+  return code;
 }
 
 }  // namespace
@@ -75,6 +231,7 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
   const tet::TetMesh& m = *in.mesh;
   const photo::Views& views = *in.views;
   const HullTest& hull = *in.hull;
+  const photo::Views& full = in.full ? *in.full : views;
   require(static_cast<std::int32_t>(m.cell_new_red.size()) == m.num_cells(),
           "photoconsist: the mesh has no cell_new_red flags");
   require(!in.prev || static_cast<std::int32_t>(m.face_parent.size()) == m.num_faces(),
@@ -99,7 +256,7 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
   require(!occl || occl->num_views() == views.size(), "photoconsist: occlusion maps of ", occl ? occl->num_views() : 0,
           " views for ", views.size(), " views");
 
-  Progress progress("photoconsist faces", in.progress ? T : 0);
+  // 1. Per face: its lattice, and the codes of faces that reuse the previous level's.
 #pragma omp parallel
   {
     photo::Scratch scratch;
@@ -108,8 +265,8 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
     // The code of lattice point X of face t (normal nf), scored without the views it is hidden in.
     const auto score_fresh = [&](const Eigen::Vector3d& X, const Eigen::Vector3d& nf, std::int64_t t) {
       scratch.hidden = nullptr;
-      if (occl && occl->hidden_views(views, X, mask.data()) > 0) scratch.hidden = mask.data(), ++hidden_pts[t];
-      const std::uint16_t code = encode_point(photo::score_point(views, X, nf, opts.line, scratch), opts.line);
+      if (occl && occl->hidden_views(full, X, mask.data()) > 0) scratch.hidden = mask.data(), ++hidden_pts[t];
+      const std::uint16_t code = point_code(views, X, nf, opts, scratch);
       scratch.hidden = nullptr;
       return code;
     };
@@ -134,8 +291,13 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
           for (std::size_t p = 0; p < index.size(); ++p) w.codes[p] = pc[index[p]];
         }
       }
+      if (!w.reused) {
+        w.n = reusable_divisions(need);
+        w.outside = hull.triangle_outside(a, b, c);
+        continue;
+      }
       // The cached codes were made with another hull (recheck_hull): apply this one.
-      if (w.reused && in.recheck_hull) {
+      if (in.recheck_hull) {
         const bool all_outside = hull.triangle_outside(a, b, c);
         std::int64_t p = 0;
         for (int j = 0; j <= w.n; ++j)
@@ -155,62 +317,100 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
       }
       // A reused code was scored with the previous level's occluders (or none): score
       // again the points whose hidden views changed.
-      if (w.reused && (occl || occl_prev)) {
+      if (occl || occl_prev) {
         std::int64_t p = 0;
         for (int j = 0; j <= w.n; ++j)
           for (int i = 0; i + j <= w.n; ++i, ++p) {
             if (!code_is_sample(w.codes[p])) continue;
             const Eigen::Vector3d X = lattice_point(a, b, c, w.n, i, j);
-            const int nh = occl ? occl->hidden_views(views, X, mask.data()) : 0;
-            const int nh_prev = occl_prev ? occl_prev->hidden_views(views, X, mask_prev.data()) : 0;
+            const int nh = occl ? occl->hidden_views(full, X, mask.data()) : 0;
+            const int nh_prev = occl_prev ? occl_prev->hidden_views(full, X, mask_prev.data()) : 0;
             if (nh == 0 && nh_prev == 0) continue;
             if (nh == 0) std::fill(mask.begin(), mask.end(), 0);
             if (nh_prev == 0) std::fill(mask_prev.begin(), mask_prev.end(), 0);
             if (nh > 0) ++hidden_pts[t];
             if (mask == mask_prev) continue;
             scratch.hidden = nh > 0 ? mask.data() : nullptr;
-            w.codes[p] = encode_point(photo::score_point(views, X, nf, opts.line, scratch), opts.line);
+            w.codes[p] = point_code(views, X, nf, opts, scratch);
             scratch.hidden = nullptr;
             ++rescored[t];
           }
         scored[t] = rescored[t];
       }
-      if (w.reused) scored[t] += hull_added[t];
-      if (!w.reused) {
-        const int n = reusable_divisions(need);
-        w.n = n;
-        std::int64_t p = 0, nscored = 0;
-        const bool all_outside = hull.triangle_outside(a, b, c);
-        for (int j = 0; j <= n && !all_outside; ++j)
-          for (int i = 0; i + j <= n; ++i, ++p) {
-            const Eigen::Vector3d X = lattice_point(a, b, c, n, i, j);
-            if (!hull.inside(X) || hull.in_core(X)) continue;  // not a sample
-            if (w.codes.empty()) w.codes.assign(static_cast<std::size_t>(lattice_size(n)), kCodeOutside);
-            w.codes[p] = score_fresh(X, nf, t);
-            ++nscored;
-          }
-        scored[t] = nscored;
+      scored[t] += hull_added[t];
+    }
+  }
+
+  // 2. The points of the fresh lattices, numbered once each: a face's vertices and edge
+  // points lie on its neighbours' lattices too, and a grid patch's score does not depend
+  // on the face, so each such point is scored once (a line patch lies on its face plane:
+  // then every lattice point is the face's own).
+  const FreshPoints fresh = number_fresh_points(m, R.face, work, opts.line.point_grid);
+  const std::int64_t U = fresh.size();
+
+  // 3. Score the distinct points: outside the hull (or in its core) a point is not a sample.
+  std::vector<std::uint16_t> ucode(static_cast<std::size_t>(U), kCodeOutside);
+  std::vector<std::uint8_t> uhidden(static_cast<std::size_t>(U), 0);
+  std::vector<std::int8_t> uorient(static_cast<std::size_t>(U), -1);  // best orientation, for Q
+  std::optional<OrientationPrior> prior;
+  if (in.prior && in.prior->size() > 0 && in.prior_radius > 0) prior.emplace(*in.prior, in.prior_radius);
+  Progress progress("photoconsist points", in.progress ? U : 0);
+#pragma omp parallel
+  {
+    photo::Scratch scratch;
+    std::vector<std::uint8_t> mask(static_cast<std::size_t>(views.size()), 0);
+#pragma omp for schedule(dynamic, 64)
+    for (std::int64_t u = 0; u < U; ++u) {
+      const Eigen::Vector3d X = fresh.position(u);
+      if (hull.inside(X) && !hull.in_core(X)) {
+        scratch.hidden = nullptr;
+        if (occl && occl->hidden_views(full, X, mask.data()) > 0) scratch.hidden = mask.data(), uhidden[u] = 1;
+        const std::int64_t t = fresh.face_of[u];
+        const auto fv = m.face_vertices(R.face[t]);
+        const Eigen::Vector3d a = m.vertex(fv[0]), b = m.vertex(fv[1]), c = m.vertex(fv[2]);
+        ucode[u] = point_code(views, X, (b - a).cross(c - a), opts, scratch,
+                              prior ? prior->mask(X) : photo::kAllOrientations, &uorient[u]);
+        scratch.hidden = nullptr;
       }
-      // Counts and best point.
-      std::int32_t ns = 0, nc = 0;
-      std::uint16_t best = 0;
-      for (std::size_t p = 0; p < w.codes.size(); ++p) {
-        const std::uint16_t code = w.codes[p];
-        ns += code_is_sample(code);
-        nc += code_is_consistent(code);
-        best = std::max(best, code);
-      }
-      R.divisions[t] = w.n;
-      R.samples[t] = ns;
-      R.consistent[t] = nc;
-      R.reused[t] = w.reused;
-      R.best_score[t] = best >= 2 ? code_score(best) : photo::kNoScore;
-      R.crossing[t] = opts.rule.crossing(nc, ns);
-      if (R.crossing[t]) best_index[t] = best_point(w.codes, w.n);
       progress.tick();
     }
   }
   progress.done();
+  R.distinct_points = U;
+  for (std::int64_t u = 0; u < U; ++u) {
+    R.scored_points += code_is_sample(ucode[u]);
+    R.hidden_points += uhidden[u];
+  }
+
+  // 4. Per face: codes, counts, crossing, best point.
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::int64_t t = 0; t < T; ++t) {
+    FaceWork& w = work[t];
+    if (!w.reused && !w.outside) {
+      const std::int64_t o = fresh.offset[t], size = lattice_size(w.n);
+      bool any = false;
+      for (std::int64_t p = 0; p < size && !any; ++p) any = code_is_sample(ucode[fresh.id[o + p]]);
+      if (any) {
+        w.codes.resize(static_cast<std::size_t>(size));
+        for (std::int64_t p = 0; p < size; ++p) w.codes[p] = ucode[fresh.id[o + p]];
+      }
+    }
+    std::int32_t ns = 0, nc = 0;
+    std::uint16_t best = 0;
+    for (std::size_t p = 0; p < w.codes.size(); ++p) {
+      const std::uint16_t code = w.codes[p];
+      ns += code_is_sample(code);
+      nc += code_is_consistent(code);
+      best = std::max(best, code);
+    }
+    R.divisions[t] = w.n;
+    R.samples[t] = ns;
+    R.consistent[t] = nc;
+    R.reused[t] = w.reused;
+    R.best_score[t] = best >= 2 ? code_score(best) : photo::kNoScore;
+    R.crossing[t] = opts.rule.crossing(nc, ns);
+    if (R.crossing[t]) best_index[t] = best_point(w.codes, w.n);
+  }
 
   // Active cells.
   R.active.assign(m.num_cells(), 0);
@@ -238,7 +438,9 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
   for (std::int64_t t = 0; t < T; ++t)
     if (R.crossing[t]) cross.push_back(t);
   std::vector<photo::PointResult> best(cross.size());
+  const int search = static_cast<int>(std::ceil(opts.lattice_px)) + 1;  // samples of the level's scale
   std::vector<Eigen::Vector3d> bestX(cross.size());
+  std::vector<std::vector<std::int32_t>> qcams(cross.size());
 #pragma omp parallel
   {
     photo::Scratch scratch;
@@ -255,17 +457,35 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
       int j = 0;
       while (p > n - j) p -= n - j + 1, ++j;
       bestX[q] = lattice_point(a, b, c, n, static_cast<int>(p), j);
-      scratch.hidden = occl && occl->hidden_views(views, bestX[q], mask.data()) > 0 ? mask.data() : nullptr;
-      best[q] = photo::score_point(views, bestX[q], (b - a).cross(c - a), opts.line, scratch);
+      scratch.hidden = occl && occl->hidden_views(full, bestX[q], mask.data()) > 0 ? mask.data() : nullptr;
+      const Eigen::Vector3d nf = (b - a).cross(c - a);
+      // its result again (its cameras): only its best orientation when this run scored it
+      const std::int8_t o = work[t].reused ? -1 : uorient[fresh.id[fresh.offset[t] + best_index[t]]];
+      best[q] = o >= 0 ? photo::score_orientation(views, bestX[q], nf, o, opts.line, scratch)
+                       : photo::score_point(views, bestX[q], nf, opts.line, scratch);
+      // The best lattice point lies within about a lattice spacing of the crest of the
+      // band of high scores: move it to the crest along its normal (same views).
+      if (best[q].valid()) {
+        float peak = best[q].score;
+        const double off = photo::peak_offset(views, bestX[q], nf, best[q], opts.line, scratch, search, &peak);
+        bestX[q] += (off * best[q].spacing) * best[q].normal();
+        best[q].score = peak;
+        // Its cameras (label's rays): the reference and the views whose patch agrees with
+        // the reference's (NCC above T), among more candidates than the score used, at most
+        // photo.point_k of them. The score's own views include occluded ones, which see
+        // another surface: a ray to them would cross the object.
+        int ids[photo::kMaxK];
+        const int nv = photo::visible_views(views, bestX[q], nf, best[q], opts.line.T, opts.line.k, opts.line, scratch, ids);
+        qcams[q].assign(ids, ids + nv);
+      }
       scratch.hidden = nullptr;
     }
   }
   std::vector<std::int32_t> cams;
   for (std::size_t q = 0; q < cross.size(); ++q) {
     const photo::PointResult& r = best[q];
-    if (!r.valid()) continue;  // cannot happen for a consistent point; never write an undefined point
-    cams.assign(1, r.ref);
-    for (int k = 0; k < r.num_partners; ++k) cams.push_back(r.partners[k]);
+    if (!r.valid()) continue;  // no crest within reach of the face (or, never, undefined): not a point of Q
+    cams = qcams[q];
     R.points.add(bestX[q], r.normal(), r.score, cams, R.face[cross[q]]);
   }
 

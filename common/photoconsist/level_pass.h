@@ -43,6 +43,7 @@ struct LevelResult {
   // Totals.
   std::int64_t lattice_points = 0;  // all lattice points of the tested faces
   std::int64_t sample_points = 0;   // inside the hull
+  std::int64_t distinct_points = 0; // distinct points of the fresh lattices (shared points once)
   std::int64_t scored_points = 0;   // scored in this run (not taken from the cache)
   std::int64_t consistent_points = 0;
   std::int64_t crossing_faces = 0;
@@ -56,7 +57,9 @@ struct LevelResult {
 
 struct LevelInput {
   const tet::TetMesh* mesh = nullptr;
-  const photo::Views* views = nullptr;
+  const photo::Views* views = nullptr;  // scoring views (the level's image-pyramid level)
+  // Full-resolution views (occlusion maps); nullptr: the same as views.
+  const photo::Views* full = nullptr;
   const HullTest* hull = nullptr;
   const FaceCache* prev = nullptr;  // cache of the previous level (compatible), or nullptr
   // Occluders (Q of the previous levels, occlusion.h), or nullptr: no occlusion test.
@@ -71,6 +74,12 @@ struct LevelInput {
   // samples now outside become outside, outside points now inside are scored.
   bool recheck_hull = false;
   bool keep_all = false;            // cache every tested face (inspection), not only faces of active cells
+  // Orientation prior (photo.orientation_prior): the previous level's points of Q, or
+  // nullptr. A lattice point with such points within prior_radius scores only their
+  // orientations and those orientations' neighbours (orientation_and_neighbours), instead of
+  // all 14.
+  const QPoints* prior = nullptr;
+  double prior_radius = 0;
   bool progress = true;
 };
 

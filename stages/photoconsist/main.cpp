@@ -11,6 +11,7 @@
 //                [--points-ply points.ply]
 // writes omega for each face and orientation (/faces/omega, read by cut) and all of Q
 // (/points, read by label). Schemas: schemas/photoconsist.md, schemas/scores.md.
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 #include <sstream>
@@ -24,6 +25,7 @@
 #include "common/photoconsist/files.h"
 #include "common/photoconsist/ground_truth.h"
 #include "common/photoconsist/level_pass.h"
+#include "common/photoconsist/level_scale.h"
 #include "common/photoconsist/q_hull.h"
 #include "common/ply.h"
 #include "common/scene.h"
@@ -132,6 +134,12 @@ int main(int argc, char** argv) {
       use_prev = prev.compatible(mesh.lat, opts.cache_signature(), &why);
       if (!use_prev && !scores) warn(cache_file, ": face cache not reused: ", why);
     }
+    // The image scale of this level (level_scale.h); the scores mode works on the full images.
+    const double cell_px = pc::level_cell_px(views, mesh.lat, mesh.level);
+    int pyramid = 0;
+    const photo::Views level_views = scores ? views : pc::level_views(views, mesh, opts.level_cell_px, &pyramid);
+    // Codes scored on another image scale are other measurements: the cache is not reused.
+    if (use_prev && prev.pyramid != pyramid) use_prev = false;
     // The hull: the given silhouettes, or in a scene without any, silhouettes estimated from
     // Q of the previous levels (photo.q_hull; none at level 0).
     const pc::QHull qh = pc::estimate_q_hull(scene, all, mesh.lat, opts);
@@ -160,10 +168,22 @@ int main(int argc, char** argv) {
       const pc::OcclusionMaps occl = occluders(views, all, mesh, opts.occl);
       const pc::ScoresResult S =
           pc::score_faces(mesh, views, hull, opts.face, sel, !ctx.quiet, occl.empty() ? nullptr : &occl);
-      // Q in the final file: faces refer to earlier meshes, so they become -1.
+      // Q in the final file: the points of the last level, found on the finest image scale
+      // (coarser levels' points are as coarse as their pyramid levels: they served those
+      // levels). Faces refer to earlier meshes, so they become -1.
+      int last = -1;
+      for (const auto l : all.level) last = std::max(last, static_cast<int>(l));
       pc::LeveledPoints q;
-      q.append(all.q, 0, false);
-      q.level = all.level;
+      {
+        QPoints kept;
+        std::vector<std::int32_t> cams;
+        for (std::int64_t p = 0; p < all.q.size(); ++p) {
+          if (all.level[p] != last) continue;
+          cams.assign(all.q.cams.begin() + all.q.cam_offsets[p], all.q.cams.begin() + all.q.cam_offsets[p + 1]);
+          kept.add(all.q.pos(p), all.q.nrm(p), all.q.score[p], cams, -1);
+        }
+        q.append(kept, last, false);
+      }
       auto f = h5::File::create(out);
       f.write_header(pc::kScoresSchema, pc::kScoresVersion, "photoconsist", ctx.params.values_for("photoconsist"),
                      inputs);
@@ -214,19 +234,35 @@ int main(int argc, char** argv) {
     in.occl = occl.empty() ? nullptr : &occl;
     in.occl_prev = occl_prev.empty() ? nullptr : &occl_prev;
     in.mesh = &mesh;
-    in.views = &views;
+    in.views = &level_views;
+    in.full = &views;
     in.hull = &hull;
     in.prev = use_prev ? &prev : nullptr;
     in.keep_all = keep_all;
     in.recheck_hull = qh.views > 0;
+    // The previous level's points of Q (photo.orientation_prior).
+    QPoints prior;
+    if (opts.orientation_prior && level > 0) {
+      std::vector<std::int32_t> cams;
+      for (std::int64_t p = 0; p < all.q.size(); ++p) {
+        if (all.level[p] != level - 1) continue;
+        cams.assign(all.q.cams.begin() + all.q.cam_offsets[p], all.q.cams.begin() + all.q.cam_offsets[p + 1]);
+        prior.add(all.q.pos(p), all.q.nrm(p), all.q.score[p], cams, -1);
+      }
+      in.prior = &prior;
+      in.prior_radius = tet::red_edge_length(mesh.lat, level - 1);
+    }
     in.progress = !ctx.quiet;
-    const pc::LevelResult R = pc::run_level(in, opts);
+    pc::LevelResult R = pc::run_level(in, opts);
+    R.cache.pyramid = pyramid;
     all.append(R.points, level, true);
 
     auto f = h5::File::create(out);
     f.write_header(pc::kLevelSchema, pc::kLevelVersion, "photoconsist", ctx.params.values_for("photoconsist"),
                    inputs);
     f.set_attr("/", "level", static_cast<std::int64_t>(level));
+    f.set_attr("/", "pyramid", static_cast<std::int64_t>(pyramid));
+    f.set_attr("/", "cell_px", cell_px);
     f.create_group("/cells");
     f.write("/cells/active", R.active, {R.active.size()});
     f.create_group("/faces");
@@ -238,6 +274,7 @@ int main(int argc, char** argv) {
     f.write("/faces/crossing", R.crossing, {T});
     f.write("/faces/reused", R.reused, {T});
     f.write("/faces/best_score", R.best_score, {T});
+    f.set_attr("/faces", "distinct_points", R.distinct_points);
     f.set_attr("/faces", "occluders", occl.points());
     f.set_attr("/faces", "occluders_dropped", occl.dropped());
     f.set_attr("/faces", "hidden_points", R.hidden_points);
@@ -248,8 +285,8 @@ int main(int argc, char** argv) {
     pc::write_leveled_points(f, all, "/points_all");
     pc::write_face_cache(f, R.cache);
     std::ostringstream os;
-    os << "level=" << level << " faces_tested=" << T << " reused=" << R.reused_faces
-       << " lattice_points=" << R.lattice_points << " in_hull=" << R.sample_points
+    os << "level=" << level << " pyramid=" << pyramid << " faces_tested=" << T << " reused=" << R.reused_faces
+       << " lattice_points=" << R.lattice_points << " distinct_points=" << R.distinct_points << " in_hull=" << R.sample_points
        << " scored=" << R.scored_points << " consistent=" << R.consistent_points
        << " crossing_faces=" << R.crossing_faces << " active_cells=" << R.active_cells << "/" << mesh.num_cells()
        << " points=" << R.points.size() << " Q=" << all.q.size();

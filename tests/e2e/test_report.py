@@ -142,7 +142,9 @@ def main():
     r = subprocess.run(["make", "-s", "-f", os.path.join(SRC, "pipeline.mk"), "help",
                         f"BUILD_DIR={tiny_run.paths(BIN)['build']}"], capture_output=True, text=True)
     expect(r.returncode == 0, f"make help exits 0: {r.stderr[-300:]}")
-    for var, default in [("LAMBDA", "1"), ("SIGMA", "0.3"), ("T", "0.9"), ("LEVELS", None)]:
+    table = json.load(open(os.path.join(SRC, "params", "defaults.json")))
+    g = lambda key: f"{table[key]['value']:g}"  # noqa: E731 (make help prints %g)
+    for var, default in [("LAMBDA", g("cut.lambda")), ("SIGMA", g("cut.sigma")), ("T", g("photo.T")), ("LEVELS", None)]:
         if default is None:
             expect(f"{var}=" in r.stdout, f"make help shows {var}")
         else:

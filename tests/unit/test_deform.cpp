@@ -272,7 +272,7 @@ TEST(DeformSmooth, BilaplacianDoesNotShrinkASphereButUmbrellaDoes) {
 TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   const Options o = Options::from_params(Params::defaults());
   EXPECT_EQ(o.iterations, Options{}.iterations);
-  EXPECT_DOUBLE_EQ(o.max_edge_px, 2.0);
+  EXPECT_DOUBLE_EQ(o.max_edge_px, Options{}.max_edge_px);
   EXPECT_DOUBLE_EQ(o.min_edge_px, Options{}.min_edge_px);  // params/defaults.json and options.h agree
   EXPECT_DOUBLE_EQ(o.smooth_bilaplacian, Options{}.smooth_bilaplacian);
   EXPECT_DOUBLE_EQ(o.texture_ring_weight, Options{}.texture_ring_weight);

@@ -157,6 +157,7 @@ TEST(CameraSelect, PointOutsideImageOrSilhouetteDropsTheView) {
 
 TEST(PointScore, OnSurfaceHighWithNearestOrientation) {
   Options o;
+  o.mu = 11;  // the paper's 1 x 11 line
   Scratch scratch;
   for (int w = 0; w < 3; ++w) {
     const PlaneScene& s = scene(w);
@@ -199,6 +200,7 @@ TEST(PointScore, OffSurfaceLow) {
   // chance value (mean ~0.5 here, docs/photo.md), not ~0. So this test checks the
   // distribution over 100 points, and the 2-D patch (121 samples) point by point.
   Options o;
+  o.mu = 11;  // the paper's mu
   Scratch scratch;
   for (int w = 0; w < 3; ++w) {
     const PlaneScene& s = scene(w);
@@ -329,6 +331,7 @@ TEST(FaceScore, OutwardHighInwardZero) {
 
 TEST(FaceScore, TiltedOrOffsetFacesScoreLower) {
   Options o;
+  o.mu = 11;  // the paper's 11 x 11 (the default 7 x 7 leaves the surface less when tilted)
   Scratch scratch;
   const PlaneScene& s = scene(0);
   const Views& v = views(0);
@@ -446,14 +449,23 @@ PatchResult reference_patch(const Views& views, const Eigen::Vector3d& X, const 
     const Eigen::Vector3d h0 = v.project_h(X), b1 = v.project_dir(d1), b2 = v.project_dir(d2);
     std::vector<float> row(ns);
     bool ok = true;
-    for (int j = 0; j < (a2 ? mu : 1) && ok; ++j) {
-      const Eigen::Vector3d hj = a2 ? Eigen::Vector3d(h0 + static_cast<double>(j - c) * b2) : h0;
+    if (a2) {
+      // grid: the affine projection about the centre (detail::grid_axes)
+      ok = h0.z() > 0;
+      const detail::GridAxes g = ok ? detail::grid_axes(h0, b1, b2) : detail::GridAxes{};
+      for (int j = 0; j < mu && ok; ++j)
+        for (int i = 0; i < mu && ok; ++i) {
+          const double ti = static_cast<double>(i - c), tj = static_cast<double>(j - c);
+          ok = sample_bilinear(v.grey, (g.u0 + tj * g.du2) + ti * g.du1, (g.v0 + tj * g.dv2) + ti * g.dv1, row[j * mu + i]);
+        }
+    } else {
+      // line: every sample projected exactly
       for (int i = 0; i < mu && ok; ++i) {
-        const Eigen::Vector3d h = hj + static_cast<double>(i - c) * b1;
+        const Eigen::Vector3d h = h0 + static_cast<double>(i - c) * b1;
         ok = h.z() > 0;
         if (ok) {
           const double iw = 1.0 / h.z();
-          ok = sample_bilinear(v.grey, h.x() * iw, h.y() * iw, row[j * mu + i]);
+          ok = sample_bilinear(v.grey, h.x() * iw, h.y() * iw, row[i]);
         }
       }
     }
@@ -467,7 +479,7 @@ PatchResult reference_patch(const Views& views, const Eigen::Vector3d& X, const 
   }
   const int u = static_cast<int>(used.size());
   if (u < need) return out;
-  if (o.adaptive_k && u < k) kp = std::max(u / 2, 3);
+  if (o.adaptive_k && u < k) kp = o.partners > 0 ? std::max(1, u - 1 - (k - 1 - o.partners)) : std::max(u / 2, 3);
   float best = -std::numeric_limits<float>::infinity();
   for (int r = 0; r < u; ++r) {
     std::vector<std::pair<float, int>> row;
@@ -481,7 +493,7 @@ PatchResult reference_patch(const Views& views, const Eigen::Vector3d& X, const 
     if (mean > best) {
       best = mean;
       out.ref = used[r];
-      for (int t = 0; t < kp; ++t) out.partners[t] = used[row[t].second];
+      for (int t = 0; t < kp; ++t) out.partners[t] = used[row[t].second], out.partner_ncc[t] = row[t].first;
     }
   }
   out.score = best;
@@ -498,6 +510,7 @@ void expect_same(const PatchResult& a, const PatchResult& b) {
   EXPECT_EQ(a.num_views, b.num_views);
   EXPECT_EQ(a.spacing, b.spacing);
   for (int t = 0; t < a.num_partners; ++t) EXPECT_EQ(a.partners[t], b.partners[t]);
+  for (int t = 0; t < a.num_partners; ++t) EXPECT_EQ(a.partner_ncc[t], b.partner_ncc[t]);
   for (int t = 0; t < a.num_views; ++t) EXPECT_EQ(a.views[t], b.views[t]);
 }
 }  // namespace
@@ -515,6 +528,8 @@ TEST(PatchKernel, BitIdenticalToTheStraightforwardFormulation) {
         o.k = k;
         o.adaptive_k = k > 5;
         o.detrend = (k == 5 || k == 12);
+        o.partners = k == 8 ? 7 : 0;  // every pair (photo.point_partners), or the paper's k'
+        o.check();
         if (k == 12) o.min_std = 0.05;  // some constant patches too
         Scratch scratch;
         for (int p = 0; p < 12; ++p) {
