@@ -107,7 +107,7 @@ double peak_offset(const Views& views, const Eigen::Vector3d& X, const Eigen::Ve
 }
 
 int visible_views(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nf, const PointResult& best,
-                  double min_ncc, int max_views, const Options& opts, Scratch& scratch, int* out) {
+                  double min_ncc, const Options& opts, Scratch& scratch, int* out) {
   if (!best.valid()) return 0;
   const Eigen::Vector3d& n = orientations()[best.orientation];
   Eigen::Vector3d a1, a2;
@@ -115,7 +115,7 @@ int visible_views(const Views& views, const Eigen::Vector3d& X, const Eigen::Vec
   out[0] = best.ref;
   const int na = agreeing_views(views, X, n, a1, opts.point_grid ? &a2 : nullptr, best.spacing, best.ref, min_ncc,
                                 kMaxK - 1, opts, scratch, out + 1);
-  return std::min(1 + na, std::clamp(max_views, 1, kMaxK));
+  return 1 + na;
 }
 
 void score_points(const Views& views, const double* X, const double* nf, long n, const Options& opts,

@@ -40,11 +40,10 @@ double peak_offset(const Views& views, const Eigen::Vector3d& X, const Eigen::Ve
 
 // The views a point of Q is visible in: best's reference and the views among the kMaxK
 // nearest to best's orientation (within the cone) whose patch at X agrees with the
-// reference's (NCC above min_ncc; agreeing_views in patch.h), best first, at most
-// max_views in all. Writes them to out (room for kMaxK) and returns their count (0 when
-// best is invalid).
+// reference's (NCC above min_ncc; agreeing_views in patch.h), best first. Writes them to
+// out (room for kMaxK) and returns their count (0 when best is invalid).
 int visible_views(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nf, const PointResult& best,
-                  double min_ncc, int max_views, const Options& opts, Scratch& scratch, int* out);
+                  double min_ncc, const Options& opts, Scratch& scratch, int* out);
 
 // score_point's patch of the one orientation o (0 .. kNumOrientations-1): its result as
 // score_point would give it had o been the best.

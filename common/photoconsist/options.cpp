@@ -38,8 +38,6 @@ void Options::check() const {
   require(q_hull_min_points >= 1, "photoconsist: photo.q_hull_min_points = ", q_hull_min_points, " must be >= 1");
   require(std::isfinite(level_cell_px) && level_cell_px >= 0 && level_cell_px <= 64,
           "photoconsist: photo.level_cell_px = ", level_cell_px, " must lie in [0, 64] pixels");
-  require(std::isfinite(crest_px) && crest_px >= 0 && crest_px <= 8, "photoconsist: photo.crest_px = ", crest_px,
-          " must lie in [0, 8] pixels");
   rule.check();
   occl.check();
 }
@@ -59,7 +57,6 @@ Options Options::from_params(const Params& p) {
   o.line.detrend = p.b("photo.point_detrend");
   o.level_cell_px = p.d("photo.level_cell_px");
   o.orientation_prior = p.b("photo.orientation_prior");
-  o.crest_px = p.d("photo.crest_px");
   o.line.T = p.d("photo.T");
   o.lattice_px = p.d("photo.lattice_px");
   o.hull_margin_px = p.d("photo.hull_margin_px");
@@ -90,7 +87,6 @@ std::string Options::cache_signature() const {
   if (line.detrend) os << " detrend=1";
   if (line.partners > 0) os << " partners=" << line.partners;
   if (orientation_prior) os << " orientation_prior=1";
-  if (crest_px > 0) os << " crest_px=" << crest_px;
   if (line.point_grid) os << " grid=1";
   if (hull_core_px > 0) os << " hull_core_px=" << hull_core_px;  // absent when off: caches written before the option stay valid
   // The occlusion options (absent when off). Cached codes of a level scored with other

@@ -36,7 +36,6 @@ struct Options {
   photo::Options line;        // lattice points: mu = photo.line_mu, k = photo.point_k (0: photo.k)
   photo::Options face;        // face scores: mu = photo.mu (the mu x mu grid)
   double lattice_px = 1.0;    // photo.lattice_px: max projected spacing of lattice points (pixels of the level's scale)
-  double crest_px = 0;        // photo.crest_px: crest test of lattice points (level_pass.cpp, point_code); 0 = off
   bool orientation_prior = false;  // photo.orientation_prior: orientations near the previous level's Q (level_pass.h)
   double level_cell_px = 0;   // photo.level_cell_px: image-pyramid level per mesh level (level_scale.h); 0 = full images
   double hull_margin_px = 2;  // photo.hull_margin_px: silhouettes dilated by this for the hull test
