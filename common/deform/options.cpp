@@ -120,7 +120,7 @@ int Options::texture_level(int it) const {
   const int n = iterations - texture_start;  // texture iterations
   const int k = it - texture_start;
   if (texture_pyramid <= 0 || n <= 1 || k < 0) return 0;
-  const int coarse = n / 2;  // iterations on levels texture_pyramid .. 1
+  const int coarse = n / 3;  // iterations on levels texture_pyramid .. 1
   if (k >= coarse) return 0;
   return texture_pyramid - (k * texture_pyramid) / coarse;
 }

@@ -42,7 +42,7 @@ struct Options {
                                   // smoothed over this many 1-rings (0: no correction)
   double texture_ring_weight = 0.5; // the texture move blends the 1-ring's applied offsets with this weight
   int texture_start = 2;          // first iteration with the texture force (smooth the lattice facets first)
-  int texture_pyramid = 0;        // the texture force starts on this image-pyramid level (texture_level)
+  int texture_pyramid = 1;        // the texture force starts on this image-pyramid level (texture_level)
   bool occlusion = true;          // drop views in which the vertex is occluded from its patches
   // step control and remeshing
   double max_move_px = 1.0;       // largest move of a vertex per iteration (pixels)
@@ -53,11 +53,11 @@ struct Options {
   int intersection_retries = 4;   // halve the step of the vertices of new intersections this often, then revert them
 
   void check() const;  // throws tetmvs::Error naming the bad value
-  static Options from_params(const Params& p);
-  // The image-pyramid level of the texture force at iteration `it` (>= texture_start):
-  // the second half of the texture iterations on the full images, the first half shared
-  // by levels texture_pyramid .. 1, coarsest first (0 when texture_pyramid is 0).
-  int texture_level(int it) const;  // reads deform.*, then check()s
+  static Options from_params(const Params& p);  // reads deform.*, then check()s
+  // The image-pyramid level of the texture force at iteration `it`: the first third of
+  // the texture iterations shared by levels texture_pyramid .. 1, coarsest first, the rest
+  // on the full images (always 0 when texture_pyramid is 0).
+  int texture_level(int it) const;
 };
 
 }  // namespace deform

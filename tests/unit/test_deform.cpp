@@ -317,6 +317,19 @@ TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   bad = o;
   bad.texture_recheck = 0;
   EXPECT_THROW(bad.check(), Error);
+  EXPECT_EQ(o.texture_pyramid, Options{}.texture_pyramid);
+}
+
+TEST(DeformOptions, TexturePyramidRunsCoarseToFineOverTheFirstThirdOfTheTextureIterations) {
+  Options o;
+  o.iterations = 12;
+  o.texture_start = 2;  // texture iterations 2..11: 10 of them, the first 3 coarse
+  o.texture_pyramid = 2;
+  std::vector<int> levels;
+  for (int it = 0; it < o.iterations; ++it) levels.push_back(o.texture_level(it));
+  EXPECT_EQ(levels, (std::vector<int>{0, 0, 2, 2, 1, 0, 0, 0, 0, 0, 0, 0}));
+  o.texture_pyramid = 0;
+  for (int it = 0; it < o.iterations; ++it) EXPECT_EQ(o.texture_level(it), 0);
 }
 
 TEST(DeformRemesh, CollapseFoldsRemovesAFoldOverInAVertexFan) {
