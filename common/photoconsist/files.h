@@ -22,6 +22,8 @@ struct LeveledPoints {
   QPoints q;
   std::vector<std::int32_t> level;  // one per point
   void append(const QPoints& more, int lvl, bool keep_face);
+  QPoints of_level(int lvl) const;  // the points of one level (faces -1)
+  int last_level() const;           // the highest level of a point (-1 when there is none)
 };
 
 // write_qpoints plus <group>/level.

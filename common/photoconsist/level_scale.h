@@ -1,8 +1,9 @@
-// The image scale of a refinement level (docs/photoconsist.md, "Image pyramid"): level i's
-// lattice points are scored on the image-pyramid level (photo::Views::reduced) at which the
-// level's cells project to about photo.level_cell_px pixels, so every level sees its cells
-// at the same size in pixels: coarse levels look at blurred, less noisy images with few
-// lattice points per face, and the finest level at the full photos.
+// The image scale of a refinement level (docs/photoconsist.md, "Level mode", step 2): level
+// i's lattice points are scored on the image-pyramid level (photo::Views::reduced) at which
+// the level's cells project to about photo.level_cell_px pixels, so every level sees its
+// cells at the same size in pixels: coarse levels look at blurred, less noisy images with
+// few lattice points per face; a level whose cells are about that size already is scored
+// on the full photos.
 #pragma once
 #include "common/photo/views.h"
 #include "common/tetmesh/tetmesh.h"

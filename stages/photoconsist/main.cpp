@@ -11,7 +11,6 @@
 //                [--points-ply points.ply]
 // writes omega for each face and orientation (/faces/omega, read by cut) and all of Q
 // (/points, read by label). Schemas: schemas/photoconsist.md, schemas/scores.md.
-#include <algorithm>
 #include <cstdio>
 #include <optional>
 #include <sstream>
@@ -171,19 +170,9 @@ int main(int argc, char** argv) {
       // Q in the final file: the points of the last level, found on the finest image scale
       // (coarser levels' points are as coarse as their pyramid levels: they served those
       // levels). Faces refer to earlier meshes, so they become -1.
-      int last = -1;
-      for (const auto l : all.level) last = std::max(last, static_cast<int>(l));
+      const int last = all.last_level();
       pc::LeveledPoints q;
-      {
-        QPoints kept;
-        std::vector<std::int32_t> cams;
-        for (std::int64_t p = 0; p < all.q.size(); ++p) {
-          if (all.level[p] != last) continue;
-          cams.assign(all.q.cams.begin() + all.q.cam_offsets[p], all.q.cams.begin() + all.q.cam_offsets[p + 1]);
-          kept.add(all.q.pos(p), all.q.nrm(p), all.q.score[p], cams, -1);
-        }
-        q.append(kept, last, false);
-      }
+      q.append(all.of_level(last), last, false);
       auto f = h5::File::create(out);
       f.write_header(pc::kScoresSchema, pc::kScoresVersion, "photoconsist", ctx.params.values_for("photoconsist"),
                      inputs);
@@ -243,12 +232,7 @@ int main(int argc, char** argv) {
     // The previous level's points of Q (photo.orientation_prior).
     QPoints prior;
     if (opts.orientation_prior && level > 0) {
-      std::vector<std::int32_t> cams;
-      for (std::int64_t p = 0; p < all.q.size(); ++p) {
-        if (all.level[p] != level - 1) continue;
-        cams.assign(all.q.cams.begin() + all.q.cam_offsets[p], all.q.cams.begin() + all.q.cam_offsets[p + 1]);
-        prior.add(all.q.pos(p), all.q.nrm(p), all.q.score[p], cams, -1);
-      }
+      prior = all.of_level(level - 1);
       in.prior = &prior;
       in.prior_radius = tet::red_edge_length(mesh.lat, level - 1);
     }

@@ -279,7 +279,7 @@ TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   EXPECT_DOUBLE_EQ(o.texture_far_px, Options{}.texture_far_px);
   EXPECT_DOUBLE_EQ(o.texture_far_min_score, Options{}.texture_far_min_score);
   EXPECT_DOUBLE_EQ(o.texture_far_min_contrast, Options{}.texture_far_min_contrast);
-  EXPECT_GT(o.texture_far_px, o.texture_range_px);  // the wide search is on (issue #12)
+  EXPECT_GT(o.texture_far_px, o.texture_range_px);  // the wide search is on by default
   EXPECT_EQ(o.texture_sag_rounds, Options{}.texture_sag_rounds);
   Options bad = o;
   bad.min_edge_px = 1.5;

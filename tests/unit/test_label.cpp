@@ -276,9 +276,9 @@ TEST(Label, BandInFrontOfTheCavityWallIsDropped) {
 // consistent in only the few views facing it best, and Q off the surface by a fraction of a
 // cell, cells just under a surface look "free" in a few views (where the nearest point of
 // Q in that view lies deeper, on the arm behind) and hidden in many. A view seeing through a
-// cell must outweigh a hiding one, but not without limit: when 3 free views meant certainty
-// (the rule until session 6, free_weight = views / 3 here), the 48-view torus of the quick
-// start lost 0.4 mm at the first cut (docs/architecture.md). Counted on the free cells of
+// cell must outweigh a hiding one, but not without limit: with 3 free views meaning certainty
+// (free_weight = views / 3 here), the 48-view torus of the quick start loses 0.4 mm at the
+// first cut (docs/architecture.md). Counted on the free cells of
 // the finest level of a torus seen by 48 ring cameras.
 const CupCase& torus48() {  // 48 ring views, Q off the surface, each point in its 5 best views
   static const CupCase c(CaseSpec{Object::kTorus, 48, 0.05, 5});
