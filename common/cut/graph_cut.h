@@ -21,7 +21,7 @@ namespace tetmvs::cut {
 enum Label : std::int8_t { kExterior = -1, kFree = 0, kInterior = 1 };
 
 struct CutOptions {
-  double lambda = 1.0;
+  double lambda = 0.3;
   double sigma = 0.1;
   // Optional visibility term (an extension of the paper; 0 = the paper's graph): a free
   // cell c pays beta * s_c * inside_evidence[c] when it ends outside and
