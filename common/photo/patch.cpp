@@ -44,6 +44,37 @@ inline bool sample_fast(const float* data, std::size_t step, int width, int heig
   return sample_bilinear(img, u, v, out);  // last row/column, outside, NaN
 }
 
+#if defined(__SSE2__)
+// Bilinear samples at the four points (ua, va) (two lanes) and (ub, vb) (two lanes) into
+// o[0..3], every point strictly inside the image (truncation == floor, its 2 x 2
+// neighbourhood inside); each lane does sample_fast's scalar operations.
+inline void bilinear4_inside(const float* data, std::size_t step, __m128d ua, __m128d ub, __m128d va, __m128d vb,
+                             float* o) {
+  const __m128 onef = _mm_set1_ps(1.f);
+  const __m128i iua = _mm_cvttpd_epi32(ua), iub = _mm_cvttpd_epi32(ub);
+  const __m128i iva = _mm_cvttpd_epi32(va), ivb = _mm_cvttpd_epi32(vb);
+  const __m128 a = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(ua, _mm_cvtepi32_pd(iua))),
+                                 _mm_cvtpd_ps(_mm_sub_pd(ub, _mm_cvtepi32_pd(iub))));
+  const __m128 b = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(va, _mm_cvtepi32_pd(iva))),
+                                 _mm_cvtpd_ps(_mm_sub_pd(vb, _mm_cvtepi32_pd(ivb))));
+  alignas(16) int iu[4], iv[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(iu), _mm_unpacklo_epi64(iua, iub));
+  _mm_store_si128(reinterpret_cast<__m128i*>(iv), _mm_unpacklo_epi64(iva, ivb));
+  alignas(16) float p00[4], p01[4], p10[4], p11[4];
+  for (int q = 0; q < 4; ++q) {
+    const float* r0 = data + static_cast<std::size_t>(iv[q]) * step + iu[q];
+    p00[q] = r0[0];
+    p01[q] = r0[1];
+    p10[q] = r0[step];
+    p11[q] = r0[step + 1];
+  }
+  const __m128 oma = _mm_sub_ps(onef, a), omb = _mm_sub_ps(onef, b);
+  const __m128 top = _mm_add_ps(_mm_mul_ps(oma, _mm_load_ps(p00)), _mm_mul_ps(a, _mm_load_ps(p01)));
+  const __m128 bot = _mm_add_ps(_mm_mul_ps(oma, _mm_load_ps(p10)), _mm_mul_ps(a, _mm_load_ps(p11)));
+  _mm_storeu_ps(o, _mm_add_ps(_mm_mul_ps(omb, top), _mm_mul_ps(b, bot)));
+}
+#endif
+
 // Samples the line h0 + (i - c) b1, i = 0..mu-1, into col[i * L]. False when a sample is
 // behind the camera or outside the image.
 bool sample_line(const View& v, const Eigen::Vector3d& h0, const Eigen::Vector3d& b1, int mu, float* col,
@@ -74,7 +105,6 @@ bool sample_line(const View& v, const Eigen::Vector3d& h0, const Eigen::Vector3d
   // Bilinear sampling, four samples per step when all four are strictly inside the image.
   const __m128d w1 = _mm_set1_pd(static_cast<double>(v.width - 1)),
                 hm1 = _mm_set1_pd(static_cast<double>(v.height - 1));
-  const __m128 onef = _mm_set1_ps(1.f);
   int i = 0;
   for (; i + 4 <= mu; i += 4) {
     const __m128d ua = _mm_load_pd(us + i), ub = _mm_load_pd(us + i + 2);
@@ -90,28 +120,8 @@ bool sample_line(const View& v, const Eigen::Vector3d& h0, const Eigen::Vector3d
       continue;
     }
     // Inside: truncation == floor.
-    const __m128i iua = _mm_cvttpd_epi32(ua), iub = _mm_cvttpd_epi32(ub);
-    const __m128i iva = _mm_cvttpd_epi32(va), ivb = _mm_cvttpd_epi32(vb);
-    const __m128 a = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(ua, _mm_cvtepi32_pd(iua))),
-                                   _mm_cvtpd_ps(_mm_sub_pd(ub, _mm_cvtepi32_pd(iub))));
-    const __m128 b = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(va, _mm_cvtepi32_pd(iva))),
-                                   _mm_cvtpd_ps(_mm_sub_pd(vb, _mm_cvtepi32_pd(ivb))));
-    alignas(16) int iu[4], iv[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(iu), _mm_unpacklo_epi64(iua, iub));
-    _mm_store_si128(reinterpret_cast<__m128i*>(iv), _mm_unpacklo_epi64(iva, ivb));
-    alignas(16) float p00[4], p01[4], p10[4], p11[4];
-    for (int q = 0; q < 4; ++q) {
-      const float* r0 = data + static_cast<std::size_t>(iv[q]) * step + iu[q];
-      p00[q] = r0[0];
-      p01[q] = r0[1];
-      p10[q] = r0[step];
-      p11[q] = r0[step + 1];
-    }
-    const __m128 oma = _mm_sub_ps(onef, a), omb = _mm_sub_ps(onef, b);
-    const __m128 top = _mm_add_ps(_mm_mul_ps(oma, _mm_load_ps(p00)), _mm_mul_ps(a, _mm_load_ps(p01)));
-    const __m128 bot = _mm_add_ps(_mm_mul_ps(oma, _mm_load_ps(p10)), _mm_mul_ps(a, _mm_load_ps(p11)));
     alignas(16) float o[4];
-    _mm_store_ps(o, _mm_add_ps(_mm_mul_ps(omb, top), _mm_mul_ps(b, bot)));
+    bilinear4_inside(data, step, ua, ub, va, vb, o);
     for (int q = 0; q < 4; ++q) col[static_cast<std::size_t>(i + q) * L] = o[q];
   }
   for (; i < mu; ++i)
@@ -165,34 +175,13 @@ bool sample_grid(const View& v, const Eigen::Vector3d& h0, const Eigen::Vector3d
 #if defined(__SSE2__)
       // four samples per step, each lane doing the scalar operations below
       const __m128d du = _mm_set1_pd(g.du1), dv = _mm_set1_pd(g.dv1), u0j = _mm_set1_pd(uj), v0j = _mm_set1_pd(vj);
-      const __m128 onef = _mm_set1_ps(1.f);
       for (; i + 4 <= mu; i += 4) {
         const __m128d ta = _mm_set_pd(static_cast<double>(i + 1 - c), static_cast<double>(i - c));
         const __m128d tb = _mm_set_pd(static_cast<double>(i + 3 - c), static_cast<double>(i + 2 - c));
         const __m128d ua = _mm_add_pd(u0j, _mm_mul_pd(ta, du)), ub = _mm_add_pd(u0j, _mm_mul_pd(tb, du));
         const __m128d va = _mm_add_pd(v0j, _mm_mul_pd(ta, dv)), vb = _mm_add_pd(v0j, _mm_mul_pd(tb, dv));
-        const __m128i iua = _mm_cvttpd_epi32(ua), iub = _mm_cvttpd_epi32(ub);
-        const __m128i iva = _mm_cvttpd_epi32(va), ivb = _mm_cvttpd_epi32(vb);
-        const __m128 a = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(ua, _mm_cvtepi32_pd(iua))),
-                                       _mm_cvtpd_ps(_mm_sub_pd(ub, _mm_cvtepi32_pd(iub))));
-        const __m128 b = _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(va, _mm_cvtepi32_pd(iva))),
-                                       _mm_cvtpd_ps(_mm_sub_pd(vb, _mm_cvtepi32_pd(ivb))));
-        alignas(16) int iu[4], iv[4];
-        _mm_store_si128(reinterpret_cast<__m128i*>(iu), _mm_unpacklo_epi64(iua, iub));
-        _mm_store_si128(reinterpret_cast<__m128i*>(iv), _mm_unpacklo_epi64(iva, ivb));
-        alignas(16) float p00[4], p01[4], p10[4], p11[4];
-        for (int q = 0; q < 4; ++q) {
-          const float* r0 = data + static_cast<std::size_t>(iv[q]) * step + iu[q];
-          p00[q] = r0[0];
-          p01[q] = r0[1];
-          p10[q] = r0[step];
-          p11[q] = r0[step + 1];
-        }
-        const __m128 oma = _mm_sub_ps(onef, a), omb = _mm_sub_ps(onef, b);
-        const __m128 top = _mm_add_ps(_mm_mul_ps(oma, _mm_load_ps(p00)), _mm_mul_ps(a, _mm_load_ps(p01)));
-        const __m128 bot = _mm_add_ps(_mm_mul_ps(oma, _mm_load_ps(p10)), _mm_mul_ps(a, _mm_load_ps(p11)));
         alignas(16) float o[4];
-        _mm_store_ps(o, _mm_add_ps(_mm_mul_ps(omb, top), _mm_mul_ps(b, bot)));
+        bilinear4_inside(data, step, ua, ub, va, vb, o);
         for (int q = 0; q < 4; ++q) out[static_cast<std::size_t>(i + q) * L] = o[q];
       }
 #endif
