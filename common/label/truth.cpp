@@ -6,13 +6,6 @@
 
 namespace tetmvs::label {
 
-const char* reason_name(int reason) {
-  static const char* const names[] = {"none",           "boundary",        "outside_hull", "voted_out",
-                                      "hidden",         "silfix_exterior", "silfix_interior", "hull_core",
-                                      "outside_q_hull", "seed_core",       "seen_free"};
-  return reason >= 0 && reason < static_cast<int>(std::size(names)) ? names[reason] : "unknown";
-}
-
 namespace {
 void add(LabelErrors& to, const LabelErrors& e) {
   to.cells += e.cells;

@@ -14,13 +14,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/reason.h"
 #include "common/tetmesh/tetmesh.h"
 #include "common/trimesh/bvh.h"
 
 namespace tetmvs::label {
-
-// Name of a reason code of /cells/reason (labels.h Reason, silhouette-fix's 5 and 6).
-const char* reason_name(int reason);
 
 struct LabelErrors {
   std::int64_t cells = 0;

@@ -42,7 +42,7 @@ struct Options {
   double hull_core_px = 0;    // label.hull_core_px: lattice points this deep in every silhouette are skipped
   // photo.q_hull*: in a scene without any silhouette, from level 1 on (and for the face
   // scores) the hull test uses silhouettes estimated from Q of the previous levels
-  // (label::q_silhouettes), grown by q_hull_margin_px (docs/colmap.md).
+  // (common/q_silhouettes.h, shared with label), grown by q_hull_margin_px (docs/colmap.md).
   bool q_hull = true;
   double q_hull_splat_cells = 0.5;   // splat radius, in cells of the latest level of Q
   double q_hull_close_cells = 1.0;   // closing radius, in those cells (projected at Q's median depth) ...

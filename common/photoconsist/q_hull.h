@@ -1,8 +1,7 @@
 // photo.q_hull: in a scene without any silhouette, the visual-hull test of the photoconsist
 // stage from level 1 on (and of the face scores) uses silhouettes estimated from Q of the
-// previous levels, as label estimates them (label::q_silhouettes: the points consistent in
-// a view splatted over one cell of the latest level of Q, closed by photo.q_hull_close_px,
-// holes filled, grown by photo.q_hull_margin_px). Without a hull photoconsist scores the
+// previous levels (common/q_silhouettes.h, shared with label: the points consistent in a
+// view splatted, closed, holes filled, grown by photo.q_hull_margin_px). Without a hull photoconsist scores the
 // whole box and marks a thick false band in the air around the object; this bounds it at
 // the source (docs/colmap.md).
 #pragma once

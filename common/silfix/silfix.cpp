@@ -9,7 +9,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
-#include "common/label/labels.h"
 #include "common/params.h"
 #include "common/trimesh/raster.h"
 
@@ -300,7 +299,7 @@ Result fix_silhouettes(const tet::TetMesh& m, const Scene& s, const TriMesh& s1,
           }
         std::unordered_map<std::int32_t, std::uint8_t> outside_cache;
         auto cell_outside = [&](std::int32_t c) -> std::uint8_t {
-          if (reason[c] == label::kBoundary || reason[c] == label::kOutsideHull) return 1;
+          if (reason[c] == kBoundary || reason[c] == kOutsideHull) return 1;
           auto it = outside_cache.find(c);
           if (it != outside_cache.end()) return it->second;
           const std::uint8_t out = !in_all_silhouettes(s, m.cell_centroid(c));
@@ -397,7 +396,7 @@ Result fix_silhouettes(const tet::TetMesh& m, const Scene& s, const TriMesh& s1,
       ViewStats& st = res.views[view_slot[v]];
       if (res.label[k.cell] == 0) {
         res.label[k.cell] = -1;
-        res.reason[k.cell] = kReasonExterior;
+        res.reason[k.cell] = kSilfixExterior;
         res.constraints.push_back(k);
         ++st.exterior_added;
       } else if (res.label[k.cell] > 0) {
@@ -409,7 +408,7 @@ Result fix_silhouettes(const tet::TetMesh& m, const Scene& s, const TriMesh& s1,
       ViewStats& st = res.views[view_slot[v]];
       if (res.label[k.cell] == 0) {
         res.label[k.cell] = 1;
-        res.reason[k.cell] = kReasonInterior;
+        res.reason[k.cell] = kSilfixInterior;
         res.constraints.push_back(k);
         ++st.interior_added;
       } else if (res.label[k.cell] > 0) {

@@ -18,7 +18,7 @@
 //  tip alike), until `max_per_region` of them gave a constraint, every pixel of the region
 //  is within `spacing_px` of a tried one, or 20 x max_per_region rays were tried. For each
 //  sampled pixel the ray is walked;
-//  cells outside the visual hull (label reasons 1 and 2, or a centroid outside a
+//  cells outside the visual hull (reasons kBoundary and kOutsideHull, or a centroid outside a
 //  silhouette) are dropped. When the rest is ONE contiguous run of cells (a single
 //  segment), the faces crossed in it are scored: front-facing omega (the orientation whose
 //  normal points toward the camera) and back-facing omega (the other one). The strongest
@@ -45,6 +45,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "common/reason.h"
 #include "common/scene.h"
 #include "common/tetmesh/locate.h"
 #include "common/tetmesh/tetmesh.h"
@@ -55,10 +56,6 @@ class Params;
 }
 
 namespace tetmvs::silfix {
-
-// Label reasons written by silhouette-fix (schemas/labels.md).
-inline constexpr std::uint8_t kReasonExterior = 5;
-inline constexpr std::uint8_t kReasonInterior = 6;
 
 struct Options {
   double margin_px = 2.0;    // error pixels must be at least this far from the true boundary
@@ -108,7 +105,7 @@ struct ViewStats {
 
 struct Result {
   std::vector<std::int8_t> label;     // updated labels (1 interior, -1 exterior, 0 free)
-  std::vector<std::uint8_t> reason;   // updated reasons (5, 6 for the new ones)
+  std::vector<std::uint8_t> reason;   // updated reasons (kSilfixExterior, kSilfixInterior for the new ones)
   std::vector<Constraint> constraints;  // added, in merge order (exterior first, by view)
   std::vector<ViewStats> views;       // one per view with a silhouette
   std::vector<cv::Mat> s1_masks;      // per camera: S1's silhouette (CV_8U 255), empty without silhouette

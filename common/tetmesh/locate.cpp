@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "common/error.h"
 
@@ -163,15 +164,16 @@ struct Walker {
   Eigen::Vector3d a, ab;  // world segment a + t*ab
   double t_end;
   std::vector<WalkHit>& out;
+  double t_stop = std::numeric_limits<double>::infinity();  // no cell entered beyond this is reported
+  // the segment in lattice-double units (for param)
+  Eigen::Vector3d A = m.lat.to_lattice(a), D = ab / m.lat.unit();
 
   double param(const I3& x0, const I3& x1, const I3& x2, double tmin) const {
     // plane of three fixed-point points against the world segment, in lattice-double units
-    const double s = std::ldexp(1.0, -kFixedBits);
+    constexpr double s = 1.0 / static_cast<double>(std::int64_t{1} << kFixedBits);
     const Eigen::Vector3d p0(x0.x * s, x0.y * s, x0.z * s), p1(x1.x * s, x1.y * s, x1.z * s),
         p2(x2.x * s, x2.y * s, x2.z * s);
     const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
-    const Eigen::Vector3d A = m.lat.to_lattice(a);
-    const Eigen::Vector3d D = ab / m.lat.unit();
     const double den = n.dot(D);
     double t = tmin;
     if (den != 0.0) t = n.dot(p0 - A) / den;
@@ -329,9 +331,20 @@ struct Walker {
     fail("walk: internal error, too many ghost pyramids in a row");
   }
 
-  void run(double t0) {
+  void run(double t0, std::int32_t* start) {
     std::int32_t gh = -1;
-    std::int32_t c = locate_fixed(m, L.P, kSoS1, &gh);
+    // the start point's cell: the hint or one of its neighbours when one holds it (the
+    // containing cell is unique, so this is locate's answer), else located
+    std::int32_t c = -1;
+    if (start && *start >= 0) {
+      if (cell_contains(m, *start, L.P)) c = *start;
+      for (int j = 0; j < 4 && c < 0; ++j) {
+        const std::int32_t nb = m.neighbour(*start, j);
+        if (nb >= 0 && cell_contains(m, nb, L.P)) c = nb;
+      }
+    }
+    if (c < 0) c = locate_fixed(m, L.P, kSoS1, &gh);
+    if (start) *start = c;
     int jin = -1;
     std::int32_t face_in = -1;
     double t_in = t0;
@@ -344,7 +357,10 @@ struct Walker {
       const auto fv = m.face_vertices(face_in);
       t_in = param(vfix(m, fv[0]), vfix(m, fv[1]), vfix(m, fv[2]), t_in);
     }
-    while (true) {
+    // The segment cannot end in a cell whose entry lies farther from its end than the cell's
+    // diameter (at most the level-0 red edge length): the end test is skipped there.
+    const double seg = ab.norm(), reach_end = 2 * red_edge_length(m.lat, 0);
+    while (t_in <= t_stop) {
       const Tet& t = m.cell_v[c];
       const I3 V[4] = {vfix(m, t[0]), vfix(m, t[1]), vfix(m, t[2]), vfix(m, t[3])};
       const int j = exit_face(c, jin, V);
@@ -352,7 +368,8 @@ struct Walker {
       const I3& y = V[kFace[j][1]];
       const I3& z = V[kFace[j][2]];
       const std::int32_t f = m.cell_face[c][j];
-      if (orient_sos(x, y, z, L.Q, kSoS2) < 0) {
+      const bool may_end = (t_end - t_in) * seg <= reach_end;
+      if (may_end && orient_sos(x, y, z, L.Q, kSoS2) < 0) {
         out.push_back({c, face_in, -1, t_in, std::max(t_in, t_end)});
         return;
       }
@@ -377,8 +394,9 @@ struct Walker {
 
 }  // namespace
 
-void walk_segment(const TetMesh& m, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                  std::vector<WalkHit>& out) {
+namespace {
+void walk_segment_until(const TetMesh& m, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double t_stop,
+                        std::vector<WalkHit>& out, std::int32_t* start = nullptr) {
   out.clear();
   const Eigen::AlignedBox3d box = m.lat.grid_box();
   const Eigen::Vector3d d = b - a;
@@ -403,11 +421,18 @@ void walk_segment(const TetMesh& m, const Eigen::Vector3d& a, const Eigen::Vecto
     return p;
   };
   Walker w{m, Grid(m.lat), Line(fixed(t0), fixed(t1)), a, d, t1, out};
-  w.run(t0);
+  w.t_stop = t_stop;
+  w.run(t0, start);
+}
+}  // namespace
+
+void walk_segment(const TetMesh& m, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                  std::vector<WalkHit>& out) {
+  walk_segment_until(m, a, b, std::numeric_limits<double>::infinity(), out);
 }
 
 void walk_ray(const TetMesh& m, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
-              std::vector<WalkHit>& out) {
+              std::vector<WalkHit>& out, double t_stop, std::int32_t* start) {
   out.clear();
   const Eigen::AlignedBox3d box = m.lat.grid_box();
   double tmax = std::numeric_limits<double>::infinity();
@@ -417,7 +442,7 @@ void walk_ray(const TetMesh& m, const Eigen::Vector3d& origin, const Eigen::Vect
     tmax = std::min(tmax, std::max(u, w));
   }
   if (!(tmax > 0) || !std::isfinite(tmax)) return;
-  walk_segment(m, origin, origin + tmax * dir, out);
+  walk_segment_until(m, origin, origin + tmax * dir, t_stop / tmax, out, start);
   for (auto& h : out) h.t_in *= tmax, h.t_out *= tmax;
 }
 

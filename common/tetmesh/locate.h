@@ -18,6 +18,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "common/tetmesh/tetmesh.h"
@@ -45,8 +46,12 @@ struct WalkHit {
 void walk_segment(const TetMesh& m, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                   std::vector<WalkHit>& out);
 // The ray from `origin` along `dir` up to where it leaves the grid box; t is in units of
-// |dir| (the point origin + t * dir).
+// |dir| (the point origin + t * dir). With t_stop, the walk ends at the first cell entered
+// beyond it: the cells reported are the first ones of the full walk's, up to that parameter.
+// start (optional, in and out): a cell to try first for the origin (rays that start near one
+// another pass the previous ray's); on return the cell the walk started in (-1: outside).
 void walk_ray(const TetMesh& m, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
-              std::vector<WalkHit>& out);
+              std::vector<WalkHit>& out, double t_stop = std::numeric_limits<double>::infinity(),
+              std::int32_t* start = nullptr);
 
 }  // namespace tetmvs::tet

@@ -8,7 +8,7 @@
 #include "common/cut/graph_cut.h"
 #include "common/cut/inputs.h"
 #include "common/cut/surface.h"
-#include "common/label/labels.h"
+#include "common/reason.h"
 #include "common/budget.h"
 #include "common/error.h"
 #include "common/h5io.h"
@@ -74,14 +74,14 @@ int main(int argc, char** argv) {
     }
     info("cut: ", C, " cells, ", F, " faces, lambda ", opt.lambda, ", sigma ", opt.sigma);
     cut::CutResult r = cut::min_cut(mesh, omega, labels, opt);
-    // Interior labels that do not protect a speck: silhouette-fix's constraints (reason 6)
-    // and the hull-core prior's (reason 7; a core cell cut off from the body by the band
+    // Interior labels that do not protect a speck: silhouette-fix's constraints
+    // (kSilfixInterior) and the hull-core prior's (kHullCore; a core cell cut off from the body by the band
     // is a single-cell shell, not a part of the object).
     std::vector<std::uint8_t> weak(C, 0);
     if (lf.has("/cells/reason")) {
       const auto reason = lf.read<std::uint8_t>("/cells/reason", {C});
       for (std::int64_t c = 0; c < C; ++c)
-        weak[c] = labels[c] > 0 && (reason.data[c] == 6 || reason.data[c] == label::kHullCore);
+        weak[c] = labels[c] > 0 && (reason.data[c] == kSilfixInterior || reason.data[c] == kHullCore);
     }
     const cut::CleanupStats cs =
         cut::clean_up_regions(mesh, labels, r.inside, ctx.params.d("cut.min_region_fraction"), &weak);

@@ -333,12 +333,12 @@ def no_silhouettes(rd):
     if not ok(run([b("label"), "--scene", scene, "--mesh", mesh, "--scores", scores, "--out", lab, "-q"]), "label without silhouettes"):
         return
     with h5py.File(lab) as h:
-        expect(h.attrs["hull_exterior"] == 0, "label without silhouettes: cells outside a hull")
+        expect(h.attrs["rule_outside_hull"] == 0, "label without silhouettes: cells outside a hull")
         expect(int((h["cells/label"][()] > 0).sum()) > 0, "label without silhouettes: no interior cell")
-        expect(int((h["cells/label"][()] < 0).sum()) > int(h.attrs["boundary"]), "label without silhouettes: no exterior cell from the votes")
+        expect(int((h["cells/label"][()] < 0).sum()) > int(h.attrs["rule_boundary"]), "label without silhouettes: no exterior cell from the votes")
         # every view gets a silhouette estimated from Q; it carves (reason 8) and drops false points
         expect(int(h.attrs["q_sil_views"]) == len(h5py.File(scene)["cameras/names"]), "label without silhouettes: views without a Q silhouette")
-        expect(int(h.attrs["q_hull_exterior"]) > 0 and int((h["cells/reason"][()] == 8).sum()) == int(h.attrs["q_hull_exterior"]),
+        expect(int(h.attrs["rule_outside_q_hull"]) > 0 and int((h["cells/reason"][()] == 8).sum()) == int(h.attrs["rule_outside_q_hull"]),
                "label without silhouettes: no exterior cell from the silhouettes of Q")
     if not ok(run([b("cut"), "--mesh", mesh, "--scores", scores, "--labels", lab, "--out", c1, "--ply", c1[:-3] + ".ply", "-q"]), "cut without silhouettes"):
         return

@@ -12,6 +12,7 @@
 
 #include "common/cut/graph_cut.h"
 #include "common/cut/surface.h"
+#include "common/label/hull.h"
 #include "common/label/labels.h"
 #include "common/params.h"
 #include "common/silfix/silfix.h"
@@ -82,12 +83,12 @@ struct HornCase {
     for (std::int32_t f = 0; f < mesh.num_faces(); ++f)
       if (mesh.face_on_boundary(f)) {
         label[mesh.face_cell(f, 0)] = -1;
-        reason[mesh.face_cell(f, 0)] = label::kBoundary;
+        reason[mesh.face_cell(f, 0)] = kBoundary;
       }
     const auto hull_out = label::outside_visual_hull(mesh, scene);
     for (std::int32_t c = 0; c < C; ++c) {
-      if (label[c] == 0 && hull_out[c]) label[c] = -1, reason[c] = label::kOutsideHull;
-      if (label[c] == 0 && in_gt[c] && mesh.cell_centroid(c).norm() < 0.6) label[c] = 1, reason[c] = label::kHidden;
+      if (label[c] == 0 && hull_out[c]) label[c] = -1, reason[c] = kOutsideHull;
+      if (label[c] == 0 && in_gt[c] && mesh.cell_centroid(c).norm() < 0.6) label[c] = 1, reason[c] = kHidden;
     }
   }
   // S1 of an "inside" flag per cell.
@@ -231,7 +232,7 @@ TEST(SilFix, HornConstraintsAreCorrectAndRecutRecoversTheProtrusion) {
   for (std::int32_t c = 0; c < C; ++c)
     if (r.label[c] != h.label[c]) {
       ASSERT_EQ(h.label[c], 0);
-      ASSERT_EQ(r.reason[c], r.label[c] > 0 ? silfix::kReasonInterior : silfix::kReasonExterior);
+      ASSERT_EQ(r.reason[c], r.label[c] > 0 ? kSilfixInterior : kSilfixExterior);
     }
 
   // Re-cut: with lambda large enough that the cut without the constraints drops the horn
@@ -408,16 +409,16 @@ TEST(LabelHullCore, CoreCellsAreInsideAndFalseMatchesAreDropped) {
   label::Options o;
   o.hull_core_px = 0;
   const label::Result off = label::label_cells(h.mesh, h.scene, q, o);
-  EXPECT_EQ(off.hull_core, 0);
-  EXPECT_EQ(off.q_dropped, 0);
+  EXPECT_EQ(off.count(label::Rule::kHullCore), 0);
+  EXPECT_EQ(off.count(label::Filter::kInHullCore), 0);
   o.hull_core_px = 2;
   const label::Result on = label::label_cells(h.mesh, h.scene, q, o);
-  EXPECT_EQ(on.q_dropped, 1);
+  EXPECT_EQ(on.count(label::Filter::kInHullCore), 1);
   std::int64_t core = 0, wrong = 0;
   double core_volume = 0, gt_volume = 0;
   for (std::int32_t c = 0; c < h.mesh.num_cells(); ++c) {
     if (h.in_gt[c]) gt_volume += h.mesh.cell_volume(c);
-    if (on.reason[c] != label::kHullCore) continue;
+    if (on.reason[c] != kHullCore) continue;
     ++core;
     EXPECT_EQ(on.label[c], 1);
     wrong += !h.in_gt[c];
@@ -425,7 +426,7 @@ TEST(LabelHullCore, CoreCellsAreInsideAndFalseMatchesAreDropped) {
   }
   std::printf("hull core: %lld cells, %lld outside the object, %.3f of its volume\n", (long long)core,
               (long long)wrong, core_volume / gt_volume);
-  EXPECT_EQ(on.hull_core, core);
+  EXPECT_EQ(on.count(label::Rule::kHullCore), core);
   EXPECT_EQ(wrong, 0);
   EXPECT_GT(core_volume, 0.5 * gt_volume);
 }

@@ -1,0 +1,196 @@
+#include "common/label/depth_maps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+
+#include "common/label/geometry.h"
+
+namespace tetmvs::label {
+
+namespace {
+
+// Radius in pixels of a window of one finest cell at the mean depth of Q in the view (at
+// least 1 pixel).
+int window_radius(const Camera& cam, const QPoints& q, double cell) {
+  double zc = 0;
+  for (std::int64_t p = 0; p < q.size(); ++p) zc += cam.depth(q.pos(p));
+  zc = q.size() ? zc / q.size() : 1.0;
+  return std::max(1, static_cast<int>(std::ceil(cell * cam.focal() / std::max(zc, 1e-12))));
+}
+
+// The nearest depth of `front` within a disc of radius wr around each pixel (0: none).
+cv::Mat nearest_in_window(const cv::Mat& front, int wr) {
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * wr + 1, 2 * wr + 1));
+  cv::Mat f_inf = front.clone();
+  f_inf.setTo(std::numeric_limits<float>::max(), front == 0);
+  cv::Mat nearm;
+  cv::erode(f_inf, nearm, kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(std::numeric_limits<float>::max()));
+  nearm.setTo(0, nearm == std::numeric_limits<float>::max());
+  return nearm;
+}
+
+// The pixels of the disc (one finest cell at the point's depth, at least one pixel) that
+// point X at depth z > 0 covers in the image: f(w, u0, u1) per image row w, for the columns
+// u0..u1 (inclusive) of that row.
+template <class F>
+void for_splat_rows(const Camera& cam, const Eigen::Vector3d& X, double z, double cell, F&& f) {
+  const Eigen::Vector2d px = cam.project(X);
+  const int r = std::max(1, static_cast<int>(std::ceil(cell * cam.focal() / z)));
+  const int u0 = static_cast<int>(std::lround(px.x())), w0 = static_cast<int>(std::lround(px.y()));
+  for (int w = std::max(w0 - r, 0); w <= std::min(w0 + r, cam.height - 1); ++w) {
+    const int dw = w - w0;
+    int du = 0;  // the largest du with du^2 + dw^2 <= r^2
+    while ((du + 1) * (du + 1) + dw * dw <= r * r) ++du;
+    const int a = std::max(u0 - du, 0), b = std::min(u0 + du, cam.width - 1);
+    if (a <= b) f(w, a, b);
+  }
+}
+
+void keep_nearest_rows(cv::Mat& img, const Camera& cam, const Eigen::Vector3d& X, double z, double cell) {
+  const float zf = static_cast<float>(z);
+  for_splat_rows(cam, X, z, cell, [&](int w, int a, int b) {
+    float* row = img.ptr<float>(w);
+    for (int u = a; u <= b; ++u)
+      if (row[u] == 0 || z < row[u]) row[u] = zf;
+  });
+}
+
+}  // namespace
+
+std::vector<std::vector<std::int64_t>> points_by_view(const QPoints& q, int views) {
+  std::vector<std::vector<std::int64_t>> out(views);
+  for (std::int64_t p = 0; p < q.size(); ++p)
+    for (std::int64_t k = q.cam_offsets[p]; k < q.cam_offsets[p + 1]; ++k) {
+      auto& list = out[q.cams[k]];
+      if (list.empty() || list.back() != p) list.push_back(p);  // a camera listed twice counts once
+    }
+  return out;
+}
+
+namespace {
+DepthMaps depth_maps_of(const Scene& s, const QPoints& q, double cell, bool far_side, bool with_exits) {
+  DepthMaps d;
+  const int V = s.size();
+  for (auto* maps : {&d.front, &d.back, &d.near, &d.far}) maps->resize(V);
+  if (with_exits) {
+    d.exit.resize(V);
+    d.entry.resize(V);
+  }
+  const auto by_view = points_by_view(q, V);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int v = 0; v < V; ++v) {
+    const Camera& cam = s.cams[v];
+    cv::Mat front = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+    cv::Mat back = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+    const Eigen::Vector3d C = cam.centre();
+    for (const std::int64_t p : by_view[v]) {
+      const Eigen::Vector3d X = q.pos(p);
+      const double z = cam.depth(X);
+      if (z > 0) keep_nearest_rows(front, cam, X, z, cell);
+    }
+    for (std::int64_t p = 0; p < (far_side ? q.size() : 0); ++p) {
+      const Eigen::Vector3d X = q.pos(p);
+      if (!(q.nrm(p).dot(C - X) < 0)) continue;  // not facing away
+      const double z = cam.depth(X);
+      if (z <= 0) continue;
+      const float zf = static_cast<float>(z);
+      for_splat_rows(cam, X, z, cell, [&](int w, int a, int b) {
+        float* row = back.ptr<float>(w);
+        for (int u = a; u <= b; ++u)
+          if (z > row[u]) row[u] = zf;
+      });
+    }
+    if (with_exits) {
+      cv::Mat exit = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+      cv::Mat entry = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+      for (const bool exits : {true, false})
+        for (std::int64_t p = 0; p < q.size(); ++p) {
+          const Eigen::Vector3d X = q.pos(p);
+          const double facing = q.nrm(p).dot(C - X);
+          if (exits ? facing >= 0 : facing <= 0) continue;
+          const double z = cam.depth(X);
+          if (z <= 0) continue;
+          const cv::Mat& before = exits ? front : exit;
+          cv::Mat& target = exits ? exit : entry;
+          const float zf = static_cast<float>(z);
+          for_splat_rows(cam, X, z, cell, [&](int w, int a, int b) {
+            const float* bef = before.ptr<float>(w);
+            float* row = target.ptr<float>(w);
+            for (int u = a; u <= b; ++u)
+              if (bef[u] != 0 && z >= bef[u] + 2 * cell && (row[u] == 0 || z < row[u])) row[u] = zf;
+          });
+        }
+      d.exit[v] = exit;
+      d.entry[v] = entry;
+    }
+    d.front[v] = front;
+    d.back[v] = back;
+    const int wr = window_radius(cam, q, cell);
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * wr + 1, 2 * wr + 1));
+    if (far_side) cv::dilate(back, d.far[v], kernel, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    d.near[v] = nearest_in_window(front, wr);
+  }
+  return d;
+}
+}  // namespace
+
+DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell, bool with_exits) {
+  return depth_maps_of(s, q, cell, true, with_exits);
+}
+
+DepthMaps q_visible_side(const Scene& s, const QPoints& q, double cell) { return depth_maps_of(s, q, cell, false, false); }
+
+DepthMaps visible_side_maps(const Scene& s, const QPoints& q, double cell, bool with_exits) {
+  DepthMaps d = q_depth_maps(s, q, cell, with_exits);
+  if (s.num_silhouettes() == 0) {
+    const auto med = quantile_depth_maps(s, q, cell, 0.5);
+    for (int v = 0; v < s.size(); ++v) med[v].copyTo(d.front[v], med[v] != 0);
+  }
+  return d;
+}
+
+QPoints keep_points(const QPoints& q, const std::vector<std::uint8_t>& drop) {
+  QPoints out;
+  for (std::int64_t p = 0; p < q.size(); ++p) {
+    if (drop[p]) continue;
+    const std::vector<std::int32_t> cams(q.cams.begin() + q.cam_offsets[p], q.cams.begin() + q.cam_offsets[p + 1]);
+    out.add(q.pos(p), q.nrm(p), q.score[p], cams, q.face[p]);
+  }
+  return out;
+}
+
+std::vector<cv::Mat> quantile_depth_maps(const Scene& s, const QPoints& q, double cell, double quantile) {
+  std::vector<cv::Mat> out(s.size());
+  const auto by_view = points_by_view(q, s.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int v = 0; v < s.size(); ++v) {
+    const Camera& cam = s.cams[v];
+    std::vector<std::pair<std::int32_t, float>> splat;  // (pixel, depth)
+    for (const std::int64_t p : by_view[v]) {
+      double z;
+      int u0, w0;
+      if (!nearest_pixel(cam, q.pos(p), z, u0, w0)) continue;
+      const int r = std::max(1, static_cast<int>(std::lround(cell * cam.focal() / z)));
+      for (int w = std::max(0, w0 - r); w <= std::min(cam.height - 1, w0 + r); ++w)
+        for (int u = std::max(0, u0 - r); u <= std::min(cam.width - 1, u0 + r); ++u)
+          if ((u - u0) * (u - u0) + (w - w0) * (w - w0) <= r * r) splat.emplace_back(w * cam.width + u, static_cast<float>(z));
+    }
+    std::sort(splat.begin(), splat.end());
+    cv::Mat out_v = cv::Mat::zeros(cam.height, cam.width, CV_32F);
+    for (std::size_t i = 0; i < splat.size();) {
+      std::size_t j = i;
+      while (j < splat.size() && splat[j].first == splat[i].first) ++j;
+      if (j - i >= 3) {
+        const auto k = static_cast<std::size_t>(std::floor(quantile * static_cast<double>(j - i - 1)));
+        out_v.at<float>(splat[i].first / cam.width, splat[i].first % cam.width) = splat[i + k].second;
+      }
+      i = j;
+    }
+    out[v] = out_v;
+  }
+  return out;
+}
+
+}  // namespace tetmvs::label

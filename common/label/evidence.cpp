@@ -1,0 +1,94 @@
+#include "common/label/evidence.h"
+
+#include <algorithm>
+
+namespace tetmvs::label {
+
+ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const Scene& s, const DepthMaps& d,
+                           const std::vector<std::uint8_t>& of, const EvidenceOptions& o) {
+  const std::int32_t C = m.num_cells();
+  ViewEvidence e;
+  e.inside.assign(C, 0.0f);
+  e.outside.assign(C, 0.0f);
+  for (auto* a : {&e.free_views, &e.beyond_views, &e.hidden_views, &e.seen_views, &e.facts}) a->assign(C, 0);
+  e.hidden_depth.assign(C, -1.0f);
+  const bool exits = o.seen_free_views > 0;
+  const auto u8 = [](int n) { return static_cast<std::uint8_t>(std::min(n, 255)); };
+  // Cells in chunks of nearby cells (the mesh's cell order is spatially coherent), each chunk
+  // view by view: the depth maps' pixels a chunk reads stay in the cache.
+  constexpr std::int32_t kChunk = 256;
+  const int V = s.size();
+  struct Counts {
+    int hidden, free_space, beyond, seen, outside_views, shell_hidden, exited, gaps;
+  };
+#pragma omp parallel
+  {
+    std::vector<Counts> n(kChunk);
+    std::vector<double> gaps(static_cast<std::size_t>(kChunk) * V);  // depth behind Q's visible side, per hiding view
+#pragma omp for schedule(dynamic, 4)
+    for (std::int32_t c0 = 0; c0 < C; c0 += kChunk) {
+      const std::int32_t c1 = std::min(C, c0 + kChunk);
+      std::fill(n.begin(), n.end(), Counts{});
+      for (int v = 0; v < V; ++v) {
+        const Camera& cam = s.cams[v];
+        const cv::Mat &front = d.front[v], &back = d.back[v], &near = d.near[v], &far = d.far[v];
+        for (std::int32_t c = c0; c < c1; ++c) {
+          if (!of[c]) continue;
+          double z;
+          int u, w;
+          if (!nearest_pixel(cam, pts.centroid[c], z, u, w)) continue;
+          Counts& k = n[c - c0];
+          const float df = front.ptr<float>(w)[u], db = back.ptr<float>(w)[u];
+          const float dn = near.ptr<float>(w)[u], dx = far.ptr<float>(w)[u];
+          const bool is_free = dn != 0 && z < dn - o.margin, is_beyond = dx != 0 && z > dx + o.margin;
+          k.free_space += is_free;
+          k.beyond += is_beyond;
+          k.outside_views += is_free || is_beyond;
+          if (df != 0 && db != 0 && z > df + o.margin && z < db - o.margin) {
+            ++k.hidden;
+            gaps[static_cast<std::size_t>(c - c0) * V + k.gaps++] = z - df;
+            k.shell_hidden += z - df <= o.shell;
+            if (exits) {
+              const float ex = d.exit[v].ptr<float>(w)[u], en = d.entry[v].ptr<float>(w)[u];
+              k.exited += ex != 0 && ex < z - o.margin && (en == 0 || en > z - o.margin);
+            }
+          }
+          ++k.seen;
+        }
+      }
+      for (std::int32_t c = c0; c < c1; ++c) {
+        if (!of[c]) continue;
+        const Counts& k = n[c - c0];
+        e.free_views[c] = u8(k.free_space);
+        e.beyond_views[c] = u8(k.beyond);
+        e.hidden_views[c] = u8(k.hidden);
+        e.seen_views[c] = u8(k.seen);
+        // the depth reached in min_views of the hiding views (robust to a stray point of Q)
+        double shallowest = -1;
+        if (k.gaps >= o.min_views) {
+          double* g = gaps.data() + static_cast<std::size_t>(c - c0) * V;
+          std::nth_element(g, g + (o.min_views - 1), g + k.gaps);
+          shallowest = g[o.min_views - 1];
+        }
+        e.hidden_depth[c] = shallowest < 0 ? -1.0f : static_cast<float>(shallowest / o.cell);
+        if (k.seen > 0) {
+          const double out = std::min(1.0, o.free_weight * k.outside_views / k.seen);
+          e.outside[c] = static_cast<float>(out);
+          e.inside[c] = static_cast<float>((1.0 - out) * k.hidden / k.seen);
+        }
+        std::uint8_t f = 0;
+        if (k.free_space == 0 && k.beyond == 0) {
+          f |= kNeverFree;
+          if (k.hidden >= o.min_views) f |= shallowest <= o.shell ? kHiddenInShell : kHiddenTooDeep;
+        }
+        if (k.free_space >= o.min_views) f |= kFreeInViews;
+        if (exits && k.free_space >= o.seen_free_views && k.shell_hidden == 0 && k.exited >= 0.5 * k.hidden)
+          f |= kSeenFreeAir;
+        e.facts[c] = f;
+      }
+    }
+  }
+  return e;
+}
+
+}  // namespace tetmvs::label

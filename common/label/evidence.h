@@ -1,0 +1,46 @@
+// What each view sees of every free cell's centre against Q's depth maps (depth_maps.h):
+// free space (in front of Q's visible side by the margin), beyond Q's far side, or hidden
+// between the two; the soft evidence for the cut; and the per-cell facts the rules test.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "common/label/depth_maps.h"
+#include "common/label/geometry.h"
+#include "common/scene.h"
+#include "common/tetmesh/tetmesh.h"
+
+namespace tetmvs::label {
+
+struct EvidenceOptions {
+  double margin = 0;         // world units
+  double shell = 0;          // world units: how deep behind Q's visible side the hidden rule reaches
+  int min_views = 3;
+  double free_weight = 2;
+  int seen_free_views = 0;   // 0: no seen-free facts (needs DepthMaps exit / entry otherwise)
+  double cell = 0;           // finest cell size: the unit of hidden_depth
+};
+
+// Facts per cell (bits of ViewEvidence::facts).
+enum Fact : std::uint8_t {
+  kHiddenInShell = 1,   // hidden in min_views views, free and beyond in none, within the shell
+  kHiddenTooDeep = 2,   // the same, but deeper than the shell
+  kFreeInViews = 4,     // free space in min_views views
+  kSeenFreeAir = 8,     // free in seen_free_views views, hidden within the shell in none, and
+                        // behind a wall in half the views hiding it
+  kNeverFree = 16,      // free space and beyond Q in no view
+};
+
+struct ViewEvidence {
+  std::vector<std::uint8_t> free_views, beyond_views, hidden_views, seen_views;  // clamped to 255
+  std::vector<float> hidden_depth;  // finest cells; -1: fewer than min_views views hide it
+  std::vector<float> inside, outside;  // soft evidence in [0, 1]
+  std::vector<std::uint8_t> facts;     // Fact bits
+};
+
+// For the cells whose flag in `of` is set (0 for the others). d: Q's depth maps (with exit /
+// entry when o.seen_free_views > 0).
+ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const Scene& s, const DepthMaps& d,
+                           const std::vector<std::uint8_t>& of, const EvidenceOptions& o);
+
+}  // namespace tetmvs::label
