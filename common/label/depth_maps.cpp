@@ -70,7 +70,8 @@ std::vector<std::vector<std::int64_t>> points_by_view(const QPoints& q, int view
 }
 
 namespace {
-DepthMaps depth_maps_of(const Scene& s, const QPoints& q, double cell, bool far_side, bool with_exits) {
+DepthMaps depth_maps_of(const Scene& s, const QPoints& q, double cell, bool far_side, bool with_exits,
+                        double margin) {
   DepthMaps d;
   const int V = s.size();
   for (auto* maps : {&d.front, &d.back, &d.near, &d.far}) maps->resize(V);
@@ -119,7 +120,7 @@ DepthMaps depth_maps_of(const Scene& s, const QPoints& q, double cell, bool far_
             const float* bef = before.ptr<float>(w);
             float* row = target.ptr<float>(w);
             for (int u = a; u <= b; ++u)
-              if (bef[u] != 0 && z >= bef[u] + 2 * cell && (row[u] == 0 || z < row[u])) row[u] = zf;
+              if (bef[u] != 0 && z >= bef[u] + margin && (row[u] == 0 || z < row[u])) row[u] = zf;
           });
         }
       d.exit[v] = exit;
@@ -136,14 +137,16 @@ DepthMaps depth_maps_of(const Scene& s, const QPoints& q, double cell, bool far_
 }
 }  // namespace
 
-DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell, bool with_exits) {
-  return depth_maps_of(s, q, cell, true, with_exits);
+DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell, bool with_exits, double margin) {
+  return depth_maps_of(s, q, cell, true, with_exits, margin);
 }
 
-DepthMaps q_visible_side(const Scene& s, const QPoints& q, double cell) { return depth_maps_of(s, q, cell, false, false); }
+DepthMaps q_visible_side(const Scene& s, const QPoints& q, double cell) {
+  return depth_maps_of(s, q, cell, false, false, 0);
+}
 
-DepthMaps visible_side_maps(const Scene& s, const QPoints& q, double cell, bool with_exits) {
-  DepthMaps d = q_depth_maps(s, q, cell, with_exits);
+DepthMaps visible_side_maps(const Scene& s, const QPoints& q, double cell, bool with_exits, double margin) {
+  DepthMaps d = q_depth_maps(s, q, cell, with_exits, margin);
   if (s.num_silhouettes() == 0) {
     const auto med = quantile_depth_maps(s, q, cell, 0.5);
     for (int v = 0; v < s.size(); ++v) med[v].copyTo(d.front[v], med[v] != 0);

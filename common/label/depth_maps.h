@@ -20,21 +20,22 @@ namespace tetmvs::label {
 //          crossing face without a point) never lets a cell behind the surface pass for free
 //          space seen through the gap.
 // With exits (the seen-free-space rule) also:
-//   exit   the nearest point facing away from the view at least 2 cells behind `front`
-//          (where the ray leaves the matter it met);
-//   entry  the nearest point facing the view at least 2 cells behind that exit (where it
-//          meets matter again).
+//   exit   the nearest point facing away from the view at least the depth margin behind
+//          `front` (where the ray leaves the matter it met);
+//   entry  the nearest point facing the view at least the margin behind that exit (where
+//          it meets matter again).
 struct DepthMaps {
   std::vector<cv::Mat> front, back, near, far, exit, entry;
 };
-DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell, bool with_exits);
+// margin: the depth margin (world units) of exit and entry.
+DepthMaps q_depth_maps(const Scene& s, const QPoints& q, double cell, bool with_exits, double margin = 0);
 // Only `front` and `near` (the free-space test of Q's points).
 DepthMaps q_visible_side(const Scene& s, const QPoints& q, double cell);
 
 // q_depth_maps for the evidence of the free cells: in a scene without any silhouette the
 // visible side `front` is taken from Q's per-pixel median depth where at least 3 splats give
 // one (false matches in front of the surface must not hide the air behind them).
-DepthMaps visible_side_maps(const Scene& s, const QPoints& q, double cell, bool with_exits);
+DepthMaps visible_side_maps(const Scene& s, const QPoints& q, double cell, bool with_exits, double margin);
 
 // Per view, the per-pixel `quantile` (0 the nearest, 0.5 the median, 1 the farthest) of the
 // depths of the splats of the points of q photo-consistent in it; 0 where fewer than 3

@@ -1,10 +1,11 @@
 #include "common/label/evidence.h"
 
 #include <algorithm>
+#include <opencv2/core.hpp>
 
 namespace tetmvs::label {
 
-ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const Scene& s, const DepthMaps& d,
+ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const Scene& s, DepthMaps d,
                            const std::vector<std::uint8_t>& of, const EvidenceOptions& o) {
   const std::int32_t C = m.num_cells();
   ViewEvidence e;
@@ -18,6 +19,13 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
   // view by view: the depth maps' pixels a chunk reads stay in the cache.
   constexpr std::int32_t kChunk = 256;
   const int V = s.size();
+  // per view and pixel the four depths together (one cache line per lookup): front, back, near, far
+  std::vector<cv::Mat> packed(V);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int v = 0; v < V; ++v) {
+    cv::merge(std::vector<cv::Mat>{d.front[v], d.back[v], d.near[v], d.far[v]}, packed[v]);
+    d.front[v].release(), d.back[v].release(), d.near[v].release(), d.far[v].release();
+  }
   struct Counts {
     int hidden, free_space, beyond, seen, outside_views, shell_hidden, exited, gaps;
   };
@@ -31,15 +39,15 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
       std::fill(n.begin(), n.end(), Counts{});
       for (int v = 0; v < V; ++v) {
         const Camera& cam = s.cams[v];
-        const cv::Mat &front = d.front[v], &back = d.back[v], &near = d.near[v], &far = d.far[v];
+        const cv::Mat& depths = packed[v];
         for (std::int32_t c = c0; c < c1; ++c) {
           if (!of[c]) continue;
           double z;
           int u, w;
           if (!nearest_pixel(cam, pts.centroid[c], z, u, w)) continue;
           Counts& k = n[c - c0];
-          const float df = front.ptr<float>(w)[u], db = back.ptr<float>(w)[u];
-          const float dn = near.ptr<float>(w)[u], dx = far.ptr<float>(w)[u];
+          const cv::Vec4f& px = depths.ptr<cv::Vec4f>(w)[u];
+          const float df = px[0], db = px[1], dn = px[2], dx = px[3];
           const bool is_free = dn != 0 && z < dn - o.margin, is_beyond = dx != 0 && z > dx + o.margin;
           k.free_space += is_free;
           k.beyond += is_beyond;
@@ -70,7 +78,7 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
           std::nth_element(g, g + (o.min_views - 1), g + k.gaps);
           shallowest = g[o.min_views - 1];
         }
-        e.hidden_depth[c] = shallowest < 0 ? -1.0f : static_cast<float>(shallowest / o.cell);
+        e.hidden_depth[c] = shallowest < 0 ? -1.0f : static_cast<float>(shallowest / o.pixel);
         if (k.seen > 0) {
           const double out = std::min(1.0, o.free_weight * k.outside_views / k.seen);
           e.outside[c] = static_cast<float>(out);

@@ -13,12 +13,12 @@
 namespace tetmvs::label {
 
 struct EvidenceOptions {
-  double margin = 0;         // world units
-  double shell = 0;          // world units: how deep behind Q's visible side the hidden rule reaches
+  double margin = 0;         // depth margin, world units
+  double shell = 0;          // how deep behind Q's visible side the hidden rule reaches (world; infinity: no limit)
   int min_views = 3;
   double free_weight = 2;
   int seen_free_views = 0;   // 0: no seen-free facts (needs DepthMaps exit / entry otherwise)
-  double cell = 0;           // finest cell size: the unit of hidden_depth
+  double pixel = 1;          // world size of the pixel unit of hidden_depth
 };
 
 // Facts per cell (bits of ViewEvidence::facts).
@@ -33,14 +33,14 @@ enum Fact : std::uint8_t {
 
 struct ViewEvidence {
   std::vector<std::uint8_t> free_views, beyond_views, hidden_views, seen_views;  // clamped to 255
-  std::vector<float> hidden_depth;  // finest cells; -1: fewer than min_views views hide it
+  std::vector<float> hidden_depth;  // pixels; -1: fewer than min_views views hide it
   std::vector<float> inside, outside;  // soft evidence in [0, 1]
   std::vector<std::uint8_t> facts;     // Fact bits
 };
 
 // For the cells whose flag in `of` is set (0 for the others). d: Q's depth maps (with exit /
-// entry when o.seen_free_views > 0).
-ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const Scene& s, const DepthMaps& d,
+// entry when o.seen_free_views > 0), consumed (each view's four maps are packed per pixel).
+ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const Scene& s, DepthMaps d,
                            const std::vector<std::uint8_t>& of, const EvidenceOptions& o);
 
 }  // namespace tetmvs::label

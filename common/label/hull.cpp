@@ -101,14 +101,25 @@ std::vector<std::uint8_t> vertices_in_silhouettes(const MeshPoints& pts, const S
   return in;
 }
 
-bool deep_in_hull(const Scene& s, const std::vector<cv::Mat>& dist, const Eigen::Vector3d& X, double depth) {
+bool deep_in_hull(const Scene& s, const std::vector<cv::Mat>& dist, const Eigen::Vector3d& X, double depth_px) {
   for (int v = 0; v < s.size(); ++v) {
     double z;
     int u, w;
     if (dist[v].empty() || !nearest_pixel(s.cams[v], X, z, u, w)) continue;
-    if (dist[v].at<float>(w, u) * z / s.cams[v].focal() < depth) return false;
+    if (dist[v].at<float>(w, u) < depth_px) return false;
   }
   return true;
+}
+
+double pixel_size(const Scene& s) {
+  std::vector<double> size;
+  for (const Camera& cam : s.cams) {
+    const double z = cam.depth(s.box.center());
+    if (z > 0) size.push_back(z / cam.focal());
+  }
+  if (size.empty()) return 0;
+  std::nth_element(size.begin(), size.begin() + size.size() / 2, size.end());
+  return size[size.size() / 2];
 }
 
 bool in_hull_core(const Scene& s, const std::vector<cv::Mat>& dist, const Eigen::Vector3d& X, double margin) {

@@ -34,10 +34,13 @@ std::vector<std::uint8_t> hull_core_cells(const tet::TetMesh& m, const MeshPoint
 // it lies in front of (outside an image counts as inside).
 std::vector<std::uint8_t> vertices_in_silhouettes(const MeshPoints& pts, const Scene& s);
 
-// True when X lies at least `depth` (world units) inside the visual hull: in every view with
-// a silhouette that it projects into, the pixel distance to the silhouette's edge, scaled to
-// X's depth (z / focal), is at least that.
-bool deep_in_hull(const Scene& s, const std::vector<cv::Mat>& dist, const Eigen::Vector3d& X, double depth);
+// True when X projects at least depth_px pixels inside the silhouette of every view with a
+// silhouette whose image it falls in (dist: silhouette_distances()).
+bool deep_in_hull(const Scene& s, const std::vector<cv::Mat>& dist, const Eigen::Vector3d& X, double depth_px);
+
+// The world size of a pixel at the object: the median over the views of the depth of the
+// scene box's centre over the focal length.
+double pixel_size(const Scene& s);
 
 // True when X projects at least `margin` pixels inside the silhouette of every view with a
 // silhouette whose image it falls in, and there is at least one such view.

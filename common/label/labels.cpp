@@ -18,14 +18,15 @@ void Options::check() const {
   require(low_percentile >= 0 && high_percentile <= 100 && low_percentile < high_percentile,
           "label.low_percentile (", low_percentile, ") must be below label.high_percentile (", high_percentile,
           "), both in [0, 100]");
-  require(min_views >= 1, "label.min_views must be >= 1, got ", min_views);
-  require(depth_margin >= 0 && std::isfinite(depth_margin), "label.depth_margin must be >= 0, got ", depth_margin);
+  require(min_views >= 1 && min_views <= 255, "label.min_views must lie in [1, 255], got ", min_views);
+  require(depth_margin_px >= 0 && std::isfinite(depth_margin_px), "label.depth_margin_px must be >= 0, got ",
+          depth_margin_px);
   require(free_weight >= 0 && std::isfinite(free_weight), "label.free_weight must be >= 0, got ", free_weight);
-  require(std::isfinite(interior_depth), "label.interior_depth must be finite");
+  require(std::isfinite(interior_depth_px), "label.interior_depth_px must be finite");
   require(hull_core_px >= 0 && seed_core_px >= 0, "label.hull_core_px and label.seed_core_px must be >= 0");
   require(seen_free_views >= 0 && seen_free_min_cells >= 0, "label.seen_free_views and label.seen_free_min_cells must be >= 0");
-  require(seen_free_clearance >= 0 && seen_free_hull_depth >= 0 && voted_out_hull_depth >= 0 && conflict_cells >= 0,
-          "label: clearances, hull depths and the conflict reach must be >= 0");
+  require(seen_free_hull_px >= 0 && voted_out_hull_px >= 0 && conflict_px >= 0,
+          "label: hull depths and the conflict reach must be >= 0");
   require(interior_min_share >= 0 && interior_min_share <= 1, "label.interior_min_share must lie in [0, 1]");
   q_sil.check();
 }
@@ -35,18 +36,17 @@ Options Options::from_params(const Params& p) {
   o.low_percentile = p.d("label.low_percentile");
   o.high_percentile = p.d("label.high_percentile");
   o.min_views = p.i("label.min_views");
-  o.depth_margin = p.d("label.depth_margin");
+  o.depth_margin_px = p.d("label.depth_margin_px");
   o.free_weight = p.d("label.free_weight");
-  o.interior_depth = p.d("label.interior_depth");
+  o.interior_depth_px = p.d("label.interior_depth_px");
   o.hull_core_px = p.d("label.hull_core_px");
   o.seed_core_px = p.d("label.seed_core_px");
   o.seen_free_views = p.i("label.seen_free_views");
-  o.seen_free_clearance = p.d("label.seen_free_clearance");
-  o.seen_free_hull_depth = p.d("label.seen_free_hull_depth");
+  o.seen_free_hull_px = p.d("label.seen_free_hull_px");
   o.seen_free_min_cells = p.i("label.seen_free_min_cells");
-  o.voted_out_hull_depth = p.d("label.voted_out_hull_depth");
+  o.voted_out_hull_px = p.d("label.voted_out_hull_px");
   o.interior_min_share = p.d("label.interior_min_share");
-  o.conflict_cells = p.d("label.conflict_cells");
+  o.conflict_px = p.d("label.conflict_px");
   o.q_sil = QSilhouetteOptions::from_params(p);
   o.check();
   return o;
@@ -63,7 +63,7 @@ struct Inputs {
   const QPoints& q;       // after the filters
   const Options& o;
   const MeshPoints& pts;
-  double cell;            // the finest cell size
+  double pixel;           // the world size of a pixel at the object (pixel_size)
   std::vector<cv::Mat> hull_dist;  // silhouette_distances(hull), when a rule needs them
 };
 
@@ -74,12 +74,12 @@ std::vector<std::uint8_t> boundary_cells(const tet::TetMesh& m) {
   return out;
 }
 
-// Of `cells`, those lying less than `depth` (world units) inside the visual hull.
-std::vector<std::uint8_t> near_hull_surface(const Inputs& in, const std::vector<std::uint8_t>& cells, double depth) {
+// Of `cells`, those lying less than depth_px inside some silhouette.
+std::vector<std::uint8_t> near_hull_surface(const Inputs& in, const std::vector<std::uint8_t>& cells, double depth_px) {
   std::vector<std::uint8_t> out(cells.size(), 0);
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int32_t c = 0; c < in.m.num_cells(); ++c)
-    out[c] = cells[c] && !deep_in_hull(in.hull, in.hull_dist, in.pts.centroid[c], depth);
+    out[c] = cells[c] && !deep_in_hull(in.hull, in.hull_dist, in.pts.centroid[c], depth_px);
   return out;
 }
 
@@ -93,8 +93,8 @@ std::vector<std::uint8_t> voted_out_cells(const Inputs& in, const std::vector<st
   std::vector<std::uint8_t> out(candidate.size(), 0);
   for (std::size_t c = 0; c < out.size(); ++c)
     out[c] = candidate[c] && votes[c] > high && votes[c] >= in.o.min_views && (ev.facts[c] & kFreeInViews);
-  if (in.o.voted_out_hull_depth > 0 && in.hull.num_silhouettes() > 0) {
-    const auto shallow = near_hull_surface(in, out, in.o.voted_out_hull_depth * in.cell);
+  if (in.o.voted_out_hull_px > 0 && in.hull.num_silhouettes() > 0) {
+    const auto shallow = near_hull_surface(in, out, in.o.voted_out_hull_px);
     for (std::size_t c = 0; c < out.size(); ++c)
       if (shallow[c]) out[c] = 0, ++r.voted_out_near_hull;
   }
@@ -103,7 +103,7 @@ std::vector<std::uint8_t> voted_out_cells(const Inputs& in, const std::vector<st
 
 // hidden (paper, with a depth limit): a candidate wholly inside every silhouette, with at
 // most the lower percentile of votes, hidden behind Q in min_views views and seen as free
-// space or beyond Q's far side in none, at most interior_depth behind Q's visible side;
+// space or beyond Q's far side in none, at most interior_depth_px behind Q's visible side;
 // optionally not in a small island of such cells. Off with the hull-core prior (the core
 // replaces it: it rests on the very points the prior distrusts).
 std::vector<std::uint8_t> hidden_cells(const Inputs& in, const std::vector<std::uint8_t>& candidate,
@@ -138,16 +138,8 @@ std::vector<std::uint8_t> seen_free_cells(const Inputs& in, const ViewEvidence& 
   std::vector<std::uint8_t> out(C, 0);
   if (in.o.seen_free_views <= 0) return out;
   for (std::int32_t c = 0; c < C; ++c) out[c] = (ev.facts[c] & kSeenFreeAir) != 0;
-  if (in.o.seen_free_clearance > 0 && in.q.size() > 0) {
-    std::vector<Eigen::Vector3d> qpos(in.q.size());
-    for (std::int64_t p = 0; p < in.q.size(); ++p) qpos[p] = in.q.pos(p);
-    const PointProximity near_q(std::move(qpos), in.o.seen_free_clearance * in.cell);
-#pragma omp parallel for schedule(dynamic, 1024)
-    for (std::int32_t c = 0; c < C; ++c)
-      if (out[c] && near_q.any_within(in.pts.centroid[c])) out[c] = 0;
-  }
-  if (in.o.seen_free_hull_depth > 0 && in.hull.num_silhouettes() > 0) {
-    const auto shallow = near_hull_surface(in, out, in.o.seen_free_hull_depth * in.cell);
+  if (in.o.seen_free_hull_px > 0 && in.hull.num_silhouettes() > 0) {
+    const auto shallow = near_hull_surface(in, out, in.o.seen_free_hull_px);
     for (std::int32_t c = 0; c < C; ++c) out[c] = out[c] && !shallow[c];
   }
   if (in.o.seen_free_min_cells > 1) {
@@ -158,8 +150,8 @@ std::vector<std::uint8_t> seen_free_cells(const Inputs& in, const ViewEvidence& 
   return out;
 }
 
-// conflict: cells that hidden, and seen_free or voted_out, label within conflict_cells of
-// each other (the latter unless hidden deeper than the shell and that reach).
+// conflict: cells that hidden, and seen_free or voted_out, label within conflict_px of each
+// other (the latter unless hidden deeper than the shell and that reach).
 std::vector<std::uint8_t> conflict_cells(const Inputs& in, const Decision& d, const ViewEvidence& ev) {
   const std::int32_t C = in.m.num_cells();
   std::vector<std::uint8_t> inside(C, 0), outside(C, 0);
@@ -167,8 +159,8 @@ std::vector<std::uint8_t> conflict_cells(const Inputs& in, const Decision& d, co
     inside[c] = d.rule[c] == static_cast<int>(Rule::kHidden);
     outside[c] = d.rule[c] == static_cast<int>(Rule::kSeenFree) || d.rule[c] == static_cast<int>(Rule::kVotedOut);
   }
-  return conflicting_cells(in.m, inside, outside, ev.hidden_depth, in.o.conflict_cells * in.cell,
-                           std::max(0.0, in.o.interior_depth) + in.o.conflict_cells);
+  return conflicting_cells(in.m, inside, outside, ev.hidden_depth, in.o.conflict_px * in.pixel,
+                           std::max(0.0, in.o.interior_depth_px) + in.o.conflict_px);
 }
 
 // seed_core: the hull core, where no view sees free space or beyond Q. Only when Q hides no
@@ -185,7 +177,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   o.check();
   const std::int32_t C = m.num_cells();
   const int finest = m.max_cell_level();
-  const double cell = tet::red_edge_length(m.lat, finest), margin = o.depth_margin * cell;
+  const double cell = tet::red_edge_length(m.lat, finest);
   const MeshPoints pts(m);
   Result r;
   // The silhouettes that bound the object: the scene's, or in a scene without any, estimated from Q.
@@ -194,10 +186,11 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   for (int v = 0; v < s.size(); ++v)
     if (!q_sil[v].empty()) hull.sil[v] = q_sil[v], ++r.q_sil_views;
   // 1. Q filters: points that cannot lie on the surface
+  const double pixel = pixel_size(s), margin = o.depth_margin_px * pixel;
   const QPoints q = filter_points(s, q_in, {o.hull_core_px, o.min_views, margin, cell},
                                   o.hull_core_px > 0 ? silhouette_distances(s) : std::vector<cv::Mat>(), q_sil, r.dropped);
-  Inputs in{m, s, hull, q, o, pts, cell, {}};
-  if (hull.num_silhouettes() > 0 && (o.voted_out_hull_depth > 0 || o.seen_free_hull_depth > 0))
+  Inputs in{m, s, hull, q, o, pts, pixel, {}};
+  if (hull.num_silhouettes() > 0 && (o.voted_out_hull_px > 0 || o.seen_free_hull_px > 0))
     in.hull_dist = silhouette_distances(hull);
   // 2. geometry: the box boundary and the visual hull
   Proposals p(C);
@@ -218,9 +211,9 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     }
   r.low_votes = percentile(pool, o.low_percentile);
   r.high_votes = percentile(crossed, o.high_percentile);
-  const double shell = o.interior_depth > 0 ? o.interior_depth * cell : std::numeric_limits<double>::infinity();
-  const ViewEvidence ev = view_evidence(m, pts, s, visible_side_maps(s, q, cell, o.seen_free_views > 0), free_cell,
-                                        {margin, shell, o.min_views, o.free_weight, o.seen_free_views, cell});
+  const double shell = o.interior_depth_px > 0 ? o.interior_depth_px * pixel : std::numeric_limits<double>::infinity();
+  const ViewEvidence ev = view_evidence(m, pts, s, visible_side_maps(s, q, cell, o.seen_free_views > 0, margin), free_cell,
+                                        {margin, shell, o.min_views, o.free_weight, o.seen_free_views, pixel});
   // 4. the rules from Q and the priors, decided by the precedence table
   if (o.hull_core_px > 0) {
     std::vector<std::uint8_t> labelled(C);
@@ -231,7 +224,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   p.add(Rule::kVotedOut, voted_out_cells(in, candidate, r.votes, r.high_votes, ev, r));
   p.add(Rule::kHidden, hidden_cells(in, candidate, r.votes, r.low_votes, ev, r));
   Decision d = decide(p);
-  if (o.conflict_cells > 0) {
+  if (o.conflict_px > 0) {
     p.add(Rule::kConflict, conflict_cells(in, d, ev));
     d = decide(p);
   }

@@ -41,14 +41,16 @@ struct Options {
   // (exterior by votes, and a point of Q in it is dropped), in front of Q's median (scenes
   // without silhouettes); and exterior by votes needs at least this many votes.
   int min_views = 3;
-  double depth_margin = 2.0;  // occlusion / free-space margin, finest cells; rays start half of it in front of Q
+  // Margin of the free-space and occlusion tests against Q's depth; rays start half of it in
+  // front of their point. Like every *_px depth here, in pixels at the object (pixel_size()).
+  double depth_margin_px = 7;
   // Soft outside evidence (the cut's visibility term): a view that sees through the cell (or
   // beyond Q's far side) weighs this many views that hide it.
   double free_weight = 2;
-  // hidden: the cell at most this deep (finest cells) behind Q's visible side in min_views of
-  // the views hiding it (<= 0: no limit), a shell under the seen surface thinner than the walls
-  // of the cavities it must not claim.
-  double interior_depth = 8;
+  // hidden: the cell at most this deep (pixels at its depth) behind Q's visible side in
+  // min_views of the views hiding it (<= 0: no limit): a shell under the seen surface thinner
+  // than the walls of the cavities it must not claim.
+  double interior_depth_px = 28;
   // hull_core (0 = off): cells whose whole projection lies this many pixels inside every
   // silhouette are interior; points of Q there are dropped and the hidden rule is off.
   double hull_core_px = 0;
@@ -57,12 +59,11 @@ struct Options {
   // seen_free (0 = off): free space in this many views, hidden in no view within the shell,
   // behind a wall in half of the views hiding it, ...
   int seen_free_views = 0;
-  double seen_free_clearance = 0.5;   // ... no point of Q this near (finest cells; 0 = no test)
-  double seen_free_hull_depth = 8;    // ... this deep inside the visual hull (finest cells; 0 = no test)
+  double seen_free_hull_px = 28;      // ... this deep inside every silhouette (pixels; 0 = no test)
   int seen_free_min_cells = 0;        // ... in a face-connected group of this many (0, 1 = no test)
-  double voted_out_hull_depth = 0;    // voted_out: this deep inside the visual hull (finest cells; 0 = no test)
+  double voted_out_hull_px = 0;       // voted_out: this deep inside every silhouette (pixels; 0 = no test)
   double interior_min_share = 0;      // hidden: in a group of this share of the largest (0 = no test)
-  double conflict_cells = 0;          // conflict: reach in finest cells (0 = off)
+  double conflict_px = 0;             // conflict: reach in pixels at the object (0 = off)
   QSilhouetteOptions q_sil;           // silhouettes estimated from Q (scenes without any)
   void check() const;                 // throws Error on a bad value
   static Options from_params(const Params& p);  // reads label.* (and photo.q_hull*), then check()s
@@ -81,7 +82,7 @@ struct Result {
   // visible side of Q by the margin), beyond Q's far side, between the two (hidden), and the
   // views where it projects into the image at all.
   std::vector<std::uint8_t> free_views, beyond_views, hidden_views, seen_views;
-  // Per free cell, the depth (finest cells) of its centre behind Q's visible side, the
+  // Per free cell, the depth (pixels at its depth) of its centre behind Q's visible side, the
   // smallest reached in min_views of the views hiding it (-1: fewer views hide it).
   std::vector<float> hidden_depth;
   double low_votes = 0, high_votes = 0;           // the percentile values
@@ -90,9 +91,9 @@ struct Result {
   std::int64_t interior = 0, exterior = 0, rays = 0;
   std::int64_t q_sil_views = 0;  // views given a silhouette estimated from Q
   // cells a rule's own test turned down (left to the rules below it, or free)
-  std::int64_t too_deep = 0;             // hidden, but deeper than interior_depth
+  std::int64_t too_deep = 0;             // hidden, but deeper than interior_depth_px
   std::int64_t interior_islands = 0;     // hidden, in a group smaller than interior_min_share
-  std::int64_t voted_out_near_hull = 0;  // voted out, less than voted_out_hull_depth inside the hull
+  std::int64_t voted_out_near_hull = 0;  // voted out, less than voted_out_hull_px inside the hull
   std::int64_t seen_free_islands = 0;    // seen free, in a group smaller than seen_free_min_cells
   std::int64_t count(Rule r) const { return cells[static_cast<int>(r)]; }
   std::int64_t count(Filter f) const { return dropped[static_cast<int>(f)]; }
@@ -109,8 +110,8 @@ std::vector<std::uint8_t> small_groups(const tet::TetMesh& m, const std::vector<
 
 // The conflict rule: cells of `inside` (hidden) within `reach` (world units) of a cell of
 // `outside` (seen free or voted out), and cells of `outside` within reach of one of `inside`
-// whose hidden depth (finest cells) is known and below `deep`: contradicting evidence that
-// close marks a wall, where neither rule is sure. Both sets are taken before either yields.
+// whose hidden depth (pixels) is known and below `deep`: contradicting evidence that close
+// marks a wall, where neither rule is sure. Both sets are taken before either yields.
 std::vector<std::uint8_t> conflicting_cells(const tet::TetMesh& m, const std::vector<std::uint8_t>& inside,
                                             const std::vector<std::uint8_t>& outside,
                                             const std::vector<float>& hidden_depth, double reach, double deep);

@@ -40,7 +40,7 @@ QPoints filter_points(const Scene& s, const QPoints& q, const FilterOptions& o, 
                       const std::vector<cv::Mat>& q_sil, std::array<std::int64_t, kNumFilters>& dropped);
 
 // Per point of q: 1 when it lies in front of the per-pixel median depth of Q (the splats of
-// the points consistent in a view) by `margin` in at least views_needed views.
+// the points consistent in a view) by `margin` (world units) in at least views_needed views.
 std::vector<std::uint8_t> in_front_of_median(const Scene& s, const QPoints& q, double cell, double margin,
                                              int views_needed);
 

@@ -29,7 +29,7 @@ enum class Rule : std::uint8_t {
   kOutsideHull,   // exterior: outside a silhouette (paper 2.4)
   kOutsideQHull,  // exterior: outside a silhouette estimated from Q (scenes without any)
   kHullCore,      // interior: deep inside every silhouette (Options::hull_core_px)
-  kConflict,      // free: interior and exterior labels from Q within Options::conflict_cells
+  kConflict,      // free: interior and exterior labels from Q within Options::conflict_px
   kSeenFree,      // exterior: a cavity's air seen over its rim (Options::seen_free_views)
   kVotedOut,      // exterior: many votes and seen as free space (paper 2.4)
   kHidden,        // interior: few votes, hidden just behind Q (paper 2.4, with a depth limit)

@@ -1,6 +1,6 @@
 // Visibility votes (paper 2.4): every point of Q casts a ray to each camera it is
-// photo-consistent in, starting `offset` in front of the point; every cell the ray crosses
-// gets a vote.
+// photo-consistent in, starting `offset` (world units) in front of the point; every cell the
+// ray crosses gets a vote.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -12,7 +12,7 @@
 
 namespace tetmvs::label {
 
-// Votes per cell. offset: world units. counted (optional, one flag per cell): only these
+// Votes per cell. counted (optional, one flag per cell): only these
 // cells' votes are needed; a ray then stops where no such cell lies further along it (a
 // voxel map of their bounding boxes decides, conservatively), so the cells beyond get fewer
 // votes than the full walk gives, and the counted cells exactly as many.
