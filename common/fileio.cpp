@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/budget.h"
 #include "common/error.h"
 
 namespace tetmvs {
@@ -85,7 +86,19 @@ void write_text_atomic(const fs::path& target, const std::string& content) {
   f.commit();
 }
 
+void check_regular_file(const fs::path& file) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(file, ec);
+  if (!fs::exists(st) || fs::is_regular_file(st)) return;
+  fail(file.string(), ": is ", fs::is_directory(st) ? "a folder" : "not a regular file (a device or a pipe)",
+       ", expected a file");
+}
+
 std::string read_file(const fs::path& file) {
+  check_regular_file(file);
+  std::error_code ec;
+  if (const auto size = fs::file_size(file, ec); !ec)
+    check_declared_bytes(static_cast<double>(size), file.string() + " (read whole)");
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(file.string(), ": cannot open (missing or unreadable)");
   note_input(file);

@@ -33,8 +33,13 @@ void make_parent_dirs(const std::filesystem::path& target);
 // Writes a whole text or binary file atomically.
 void write_text_atomic(const std::filesystem::path& target, const std::string& content);
 
-// Reads a whole file; throws Error naming the file when it cannot.
+// Reads a whole file; throws Error naming the file when it cannot, when it is not a
+// regular file, or when it is larger than the stage's memory budget.
 std::string read_file(const std::filesystem::path& file);
+
+// Throws Error naming the file when it exists but is not a regular file (after following
+// symbolic links): a folder, a device such as /dev/zero, a pipe that would block forever.
+void check_regular_file(const std::filesystem::path& file);
 
 // Records that the running stage reads `file` (the readers call it): no output of the
 // stage may replace it (checked by the CommitGroup before any rename).

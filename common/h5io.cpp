@@ -123,6 +123,7 @@ File File::open(const fs::path& file, const std::string& schema, int min_version
                 int max_version) {
   if (!fs::exists(file)) fail(file.string(), ": file does not exist");
   if (fs::is_directory(file)) fail(file.string(), ": is a folder, expected an HDF5 file");
+  check_regular_file(file);
   if (H5Fis_hdf5(file.c_str()) <= 0)
     fail(file.string(), ": not a readable HDF5 file (truncated, empty or another format)");
   File f;

@@ -143,6 +143,7 @@ void check_image_header(const fs::path& file) {
 // cv::imread with OpenCV's own refusals (e.g. more than 2^30 pixels) as an Error naming the file.
 cv::Mat read_image(const fs::path& file, const char* what) {
   if (!fs::exists(file)) fail(file.string(), ": ", what, " file is missing");
+  check_regular_file(file);
   check_image_header(file);
   note_input(file);
   cv::Mat m;
@@ -159,6 +160,8 @@ cv::Mat read_image(const fs::path& file, const char* what) {
 }  // namespace
 
 std::optional<ImageSize> read_image_size(const fs::path& file) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return std::nullopt;
   std::ifstream in(file, std::ios::binary);
   unsigned char h[26] = {};
   if (!in.read(reinterpret_cast<char*>(h), 2)) return std::nullopt;

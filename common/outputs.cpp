@@ -33,6 +33,8 @@ void check_one(const PathArg& o) {
   if (fs::exists(st)) {
     if (o.folder && !fs::is_directory(st)) fail(arg(o), ": exists and is not a folder");
     if (!o.folder && fs::is_directory(st)) fail(arg(o), ": is a folder, expected a file path");
+    // (renaming onto a device such as /dev/null would replace it)
+    if (!o.folder && !fs::is_regular_file(st)) fail(arg(o), ": exists and is not a regular file (a device or a pipe)");
   }
   // the folder that will hold the output (the output folder itself when it exists), or
   // its nearest existing parent when it is still to be made

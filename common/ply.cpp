@@ -193,6 +193,7 @@ Header parse_header(const std::string& data, const std::string& file, std::uint6
 }  // namespace
 
 void check_ply_header(const std::filesystem::path& path) {
+  check_regular_file(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path.string(), ": cannot open (missing or unreadable)");
   std::string head(1 << 16, '\0');
