@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
   auto* scene_opt = cli.add_input("--scene", scene_file, "scene.h5: with --png, render the surface from four views");
   cli.add_output("--png", png, "PNG of the surface rendered from four views (needs --scene)")->needs(scene_opt);
   return cli.run(argc, argv, [&](StageContext& ctx) {
+    const Scene scene = png.empty() ? Scene() : read_scene(scene_file, false);  // (checked before the work)
     {
       // the mesh, then the graph: one node per cell, two directed edges per face plus up to
       // two terminal edges per cell (visibility term); per edge: target, reverse, capacity,
@@ -116,7 +117,7 @@ int main(int argc, char** argv) {
     f.set_attr("/", "closed", static_cast<std::int64_t>(chk.closed));
     f.set_attr("/", "edge_manifold", static_cast<std::int64_t>(chk.edge_manifold));
     f.commit();
-    if (!png.empty()) write_png_rgb(png, render_sheet(surface, read_scene(scene_file, false)));
+    if (!png.empty()) write_png_rgb(png, render_sheet(surface, scene));
     // the PLY is make's target: committed last, so a stage killed before it leaves no PLY
     // whose cut file is missing
     write_ply(ply, surface, {false, "tetmvs cut: outward-oriented triangles, world frame"});

@@ -40,11 +40,17 @@ std::vector<tetmvs::Camera> load_cameras(const fs::path& f, int w, int h) {
     const fs::path first = f.parent_path() / cams[0].name;
     require(fs::exists(first), f.string(), ": image size unknown (", first.string(),
             " is not there): give --size WxH");
-    const auto declared = read_image_size(first);
-    const cv::Mat im = declared ? cv::Mat() : load_rgb(first);
-    w = declared ? static_cast<int>(std::min<std::int64_t>(declared->width, 1 << 30)) : im.cols;
-    h = declared ? static_cast<int>(std::min<std::int64_t>(declared->height, 1 << 30)) : im.rows;
-    require(w > 0 && h > 0, first.string(), ": the image declares no pixels; give --size WxH");
+    // the size its header declares (the memory budget below covers it), else decoded
+    if (const auto d = read_image_size(first)) {
+      require(d->width > 0 && d->height > 0 && d->width <= (1 << 30) && d->height <= (1 << 30), first.string(),
+              ": the image header declares ", d->width, " x ", d->height, " pixels; give --size WxH");
+      w = static_cast<int>(d->width);
+      h = static_cast<int>(d->height);
+    } else {
+      const cv::Mat im = load_rgb(first);
+      w = im.cols;
+      h = im.rows;
+    }
   }
   for (auto& c : cams) c.width = w, c.height = h;
   return cams;

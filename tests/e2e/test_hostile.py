@@ -108,6 +108,14 @@ def image_cases(ds, tmp):
             r = stage("ingest", d, "-o", out, "--contact-sheet", os.path.join(tmp, "sheet.png"), "-q")
             refused(r, f"ingest, {kind} {name}", [victim] + w, [out, os.path.join(tmp, "sheet.png")])
             shutil.rmtree(d)
+    # evaluate takes the cameras' size from the first image beside a par file
+    d = os.path.join(tmp, "eval_cameras")
+    shutil.copytree(ds, d)
+    open(os.path.join(d, names[0]), "wb").write(hostile.png(60000, 60000))
+    gt, out = os.path.join(ds, "gt.ply"), os.path.join(tmp, "eval.json")
+    r = stage("evaluate", "--mesh", gt, "--gt", gt, "--cameras", hostile.par_file(d), "--out", out, "-q")
+    refused(r, "evaluate, cameras sized by a header of 60000 x 60000", ["60000 x 60000", "memory budget"], [out])
+    shutil.rmtree(d)
 
 
 def declared_size_cases(ds, tmp):
