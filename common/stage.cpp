@@ -62,7 +62,8 @@ std::vector<PathArg> StageCli::given(const std::vector<Declared>& d) {
 
 namespace {
 
-// The number of OpenMP threads the environment asks for when --threads is not given.
+// --threads within range, and without it the number the environment (OMP_NUM_THREADS) asks
+// for: OpenMP aborts the program when it cannot make the threads.
 void check_threads(int threads) {
   if (threads < 0 || threads > kMaxThreads)
     fail("--threads ", threads, ": must be from 1 to ", kMaxThreads, " (or 0: all cores)");
