@@ -135,6 +135,11 @@ Scene read_scene(const std::filesystem::path& file, bool images) {
 
 namespace {
 std::string name_of(const Scene& s, int v) { return "view " + std::to_string(v) + " (" + s.cams[v].name + ")"; }
+std::string xyz(const Eigen::Vector3d& p) {
+  std::ostringstream os;
+  os << "(" << p.x() << " " << p.y() << " " << p.z() << ")";
+  return os.str();
+}
 }  // namespace
 
 std::vector<std::string> check_scene_geometry(const Scene& s, const std::string& where) {
@@ -142,15 +147,15 @@ std::vector<std::string> check_scene_geometry(const Scene& s, const std::string&
   require(n >= 2, where, ": ", n, " view; photo-consistency needs at least two views of the object");
   const Eigen::Vector3d lo = s.box.min(), hi = s.box.max();
   require(lo.allFinite() && hi.allFinite() && (hi - lo).allFinite() && (lo.array() < hi.array()).all(), where,
-          ": the box (", lo.transpose(), ") - (", hi.transpose(), ") is not a finite box with min below max");
+          ": the box ", xyz(lo), " - ", xyz(hi), " is not a finite box with min below max");
   std::vector<std::string> warnings;
   std::vector<int> blind;
   for (int v = 0; v < n; ++v) {
     const Camera& c = s.cams[v];
     const Eigen::Vector3d C = c.centre();
     require(C.allFinite(), where, ": ", name_of(s, v), " has no finite centre");
-    require(!s.box.contains(C), where, ": the camera of ", name_of(s, v), " at (", C.transpose(), ") is inside the box (",
-            lo.transpose(), ") - (", hi.transpose(), "); the object must be seen from outside its box: check the box "
+    require(!s.box.contains(C), where, ": the camera of ", name_of(s, v), " at ", xyz(C), " is inside the box ",
+            xyz(lo), " - ", xyz(hi), "; the object must be seen from outside its box: check the box "
             "(bbox.txt, README.txt or ingest.box) and the cameras");
     // sees any of 5 x 5 x 5 points spread over the box (corners, faces, inside)?
     bool sees = false;
@@ -161,8 +166,8 @@ std::vector<std::string> check_scene_geometry(const Scene& s, const std::string&
     if (!sees) blind.push_back(v);
   }
   if (n - static_cast<int>(blind.size()) < 2)
-    fail(where, ": only ", n - static_cast<int>(blind.size()), " of ", n, " views see the box (", lo.transpose(), ") - (",
-         hi.transpose(), "); photo-consistency needs two: check the box and the cameras (is a camera facing away?)");
+    fail(where, ": only ", n - static_cast<int>(blind.size()), " of ", n, " views see the box ", xyz(lo), " - ",
+         xyz(hi), "; photo-consistency needs two: check the box and the cameras (is a camera facing away?)");
   for (int v : blind)
     warnings.push_back(where + ": " + name_of(s, v) + " sees none of the box (it faces away, or the box lies outside "
                        "its image): it contributes nothing");

@@ -3,8 +3,11 @@
 // The work lives in common/synth/.
 #include <sstream>
 
+#include <omp.h>
+
 #include <filesystem>
 
+#include "common/budget.h"
 #include "common/error.h"
 #include "common/fileio.h"
 #include "common/stage.h"
@@ -84,6 +87,16 @@ int main(int argc, char** argv) {
     c.camera_radius = p.d("synth.camera_radius");
     c.focal = p.d("synth.focal");
     c.box_size = p.d("synth.box_size");
+    {
+      // per rendering thread the supersampled depth and triangle rasters (8 bytes a sample)
+      // and the RGB accumulator, mask and PNG (about 24 bytes a pixel); a par file's cameras
+      // without --size keep their images' size, which their headers declare (load_rgb checks)
+      const double w = c.width ? c.width : 640, h = c.height ? c.height : 480, ss = c.supersample;
+      const double bytes = omp_get_max_threads() * w * h * (8.0 * ss * ss + 24.0);
+      std::ostringstream what;
+      what << "synth: views of " << w << " x " << h << " pixels, synth.supersample " << c.supersample;
+      check_memory_budget(p, bytes, what.str(), "use a smaller --size or synth.supersample");
+    }
     const nlohmann::json meta = synth::synthesize(c, out);
     info("synth: wrote ", meta["views"].get<int>(), " views of '", object, "' to ", out);
     std::ostringstream s;
