@@ -146,14 +146,16 @@ endif
 # --- damaged intermediates ---------------------------------------------------------------
 # A file of the run damaged after it was made (truncated in place, overwritten) is newer
 # than its inputs, so make would take it as done and every later stage would fail on it:
-# `validate` names those that cannot be opened as what they are, and they are made again
-# (and what follows them). A side file is made again by the stage whose target it belongs to.
+# `validate` names those of the files the stages (and the report) read that cannot be opened
+# as what they are, and they are made again with what follows them. cut1.h5, a side file of
+# cut1.ply, is made again by its stage. (Files nothing reads, such as points.ply or
+# deform.h5, are left as they are.)
 RUN_FILES := $(wildcard $(addprefix $(RUN_DIR)/,scene.h5 mesh_*.h5 pc_*.h5 scores.h5 labels.h5 silfix.h5 cut1.h5 \
-  cut2.h5 deform.h5 cut1.ply cut2.ply final.ply points.ply eval_*.json))
+  cut1.ply cut2.ply final.ply eval_*.json))
 ifneq ($(and $(RUN_FILES),$(wildcard $(BIN)/validate),$(filter-out help clean,$(or $(MAKECMDGOALS),all))),)
 DAMAGED := $(shell TETMVS_LOG= '$(BIN)/validate' --names --quiet $(RUN_FILES) 2>/dev/null)
 endif
-target_of = $(patsubst %/cut1.h5,%/cut1.ply,$(patsubst %/cut2.h5,%/cut2.ply,$(patsubst %/deform.h5,%/final.ply,$(patsubst %/points.ply,%/scores.h5,$(1)))))
+target_of = $(patsubst %/cut1.h5,%/cut1.ply,$(1))
 ifneq ($(DAMAGED),)
 $(info pipeline.mk: damaged, made again: $(notdir $(DAMAGED)))
 $(sort $(call target_of,$(DAMAGED))): FORCE

@@ -177,7 +177,8 @@ std::vector<std::string> check_scene_geometry(const Scene& s, const std::string&
       if ((s.cams[a].centre() - s.cams[b].centre()).norm() < 1e-6 * diag &&
           (s.cams[a].axis() - s.cams[b].axis()).norm() < 1e-6)
         warnings.push_back(where + ": " + name_of(s, a) + " and " + name_of(s, b) +
-                           " are the same camera (same centre and direction): the pair adds nothing");
+                           " have the same pose (centre and direction): their photos agree at any depth, so "
+                           "photo-consistency between the two measures nothing");
   return warnings;
 }
 

@@ -34,7 +34,8 @@ struct Scene {
 // for fewer than two cameras, a box that is not finite, a camera inside the box (the method
 // reconstructs an object seen from outside its box), or fewer than two views that see any
 // of the box. Returns warnings for the suspicious parts: each view that sees none of the
-// box (it faces away, or the box falls outside its image), cameras at the same place.
+// box (it faces away, or the box falls outside its image), two cameras with the same pose
+// (the Middlebury rings close on themselves: dinoRing's views 2 and 48).
 std::vector<std::string> check_scene_geometry(const Scene& s, const std::string& where);
 // The images (ingest): Error when every image is uniform (no texture to match, e.g. all
 // black); a warning for each uniform one.

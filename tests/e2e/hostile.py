@@ -203,7 +203,7 @@ def nonsense_scenes(ds, tmp):
         shutil.copy(os.path.join(d, r[0][0]), os.path.join(d, twin))
         shutil.copy(os.path.join(d, "silhouettes", r[0][0]), os.path.join(d, "silhouettes", twin))
         write_par(p, r + [[twin] + r[0][1:]])
-    out.append(("duplicate_camera", variant("duplicate_camera", duplicate), "warn", ["same camera"]))
+    out.append(("duplicate_camera", variant("duplicate_camera", duplicate), "warn", ["same pose"]))
     return out
 
 

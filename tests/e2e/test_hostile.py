@@ -8,7 +8,7 @@ six 64 x 48 views (seconds; `.ci/run` also runs this file under the sanitizers):
   naming the file and dataset, before allocating;
 - nonsense geometry (a box of +-1e30 m, a box around a camera, a single view, cameras
   facing away, all-black images) refused with a reason; suspicious parts (one camera facing
-  away, one black image, a missing mask, the same camera twice) accepted with a warning
+  away, one black image, a missing mask, the same pose twice) accepted with a warning
   that reaches the run log and the report;
 - a full disk (a file size limit) while ingest writes: one line, exit 1, nothing left;
 - an output that is an input found while reading (an image of the dataset): refused before
