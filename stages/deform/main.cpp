@@ -22,11 +22,11 @@ int main(int argc, char** argv) {
                "(multi-view NCC, coarse to fine) forces, red-green remeshing, no self-intersections. Writes a binary PLY with normals and colours "
                "and per-iteration statistics (HDF5, schemas/deform.md).");
   std::string scene_file, mesh_file, out, stats, png;
-  cli.app().add_option("--scene", scene_file, "scene.h5 (cameras, images, silhouettes)")->required();
-  cli.app().add_option("--mesh", mesh_file, "start surface: closed, edge-manifold, outward (cut2.ply)")->required();
-  cli.app().add_option("--out", out, "final mesh (binary PLY with normals and colours)")->required();
-  cli.app().add_option("--stats", stats, "statistics per iteration (HDF5, schema tetmvs.deform)")->required();
-  cli.app().add_option("--png", png, "PNG of the final mesh rendered from four views");
+  cli.add_input("--scene", scene_file, "scene.h5 (cameras, images, silhouettes)")->required();
+  cli.add_input("--mesh", mesh_file, "start surface: closed, edge-manifold, outward (cut2.ply)")->required();
+  cli.add_output("--out", out, "final mesh (binary PLY with normals and colours)")->required();
+  cli.add_output("--stats", stats, "statistics per iteration (HDF5, schema tetmvs.deform)")->required();
+  cli.add_output("--png", png, "PNG of the final mesh rendered from four views");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     const deform::Options opt = deform::Options::from_params(ctx.params);
     Scene scene = read_scene(scene_file);
