@@ -56,6 +56,28 @@ endif
 
 PROGRAMS := $(notdir $(wildcard $(ROOT)/stages/*))
 has = $(filter $(1),$(PROGRAMS))
+MIDDLEBURY := dinoRing templeRing dinoSparseRing templeSparseRing
+
+# --- the variables, checked before anything is made ----------------------------------------
+ifeq ($(filter help clean,$(MAKECMDGOALS)),)
+ifneq ($(words $(LEVELS)) $(filter $(LEVELS),1 2 3 4 5 6 7 8 9 10 11 12),1 $(LEVELS))
+$(error LEVELS='$(LEVELS)': give the number of refinement levels, a whole number from 1 to 12)
+endif
+endif
+ifneq ($(words $(DATA)) $(words $(RUN_DIR)),1 1)
+$(error DATA='$(DATA)', RUN_DIR='$(RUN_DIR)': each must be one word (no spaces))
+endif
+# RUN_DIR is written into and `clean` removes it: never the source tree, a folder that
+# holds it, or the home folder
+RUN_ABS := $(abspath $(RUN_DIR))
+ifneq ($(or $(filter / $(abspath $(HOME)),$(RUN_ABS)),$(filter $(RUN_ABS)/%,$(ROOT)/)),)
+$(error RUN_DIR=$(RUN_DIR) is $(RUN_ABS), which holds the sources or is the home folder; give a run folder of its own)
+endif
+ifeq ($(COLMAP_WS)$(filter synth-%,$(DATA))$(filter $(DATA),$(MIDDLEBURY))$(filter help clean,$(MAKECMDGOALS)),)
+ifeq ($(wildcard $(DATASET)/.),)
+$(error DATA=$(DATA): no dataset folder $(DATASET) (give synth-<object>, one of $(MIDDLEBURY), a folder under DATA_DIR=$(DATA_DIR), or DATA_DIR=<COLMAP workspace>))
+endif
+endif
 
 # --- parameters: make variable -> key -> stages (generated from params/defaults.json) --
 # params.mk is made by the build; the rule below builds first on a fresh clone, and make then
@@ -103,7 +125,6 @@ programs:
 $(BIN)/%: | programs ;
 
 # --- data ---------------------------------------------------------------------------------
-MIDDLEBURY := dinoRing templeRing dinoSparseRing templeSparseRing
 $(DATA_DIR)/%/.present:
 	@bash $(ROOT)/scripts/fetch_middlebury.sh $* $(DATA_DIR)
 # Synthetic scenes use dinoRing's 48 cameras when the set is at hand, else a generated ring.
@@ -121,6 +142,26 @@ DATASET_READY := $(if $(wildcard $(DATASET)/*_par.txt),,$(DATA_DIR)/$(DATA)/.pre
 else
 DATASET_READY :=
 endif
+
+# --- damaged intermediates ---------------------------------------------------------------
+# A file of the run damaged after it was made (truncated in place, overwritten) is newer
+# than its inputs, so make would take it as done and every later stage would fail on it:
+# `validate` names those of the files the stages (and the report) read that cannot be opened
+# as what they are, and they are made again with what follows them. cut1.h5, a side file of
+# cut1.ply, is made again by its stage. (Files nothing reads, such as points.ply or
+# deform.h5, are left as they are.)
+RUN_FILES := $(wildcard $(addprefix $(RUN_DIR)/,scene.h5 mesh_*.h5 pc_*.h5 scores.h5 labels.h5 silfix.h5 cut1.h5 \
+  cut1.ply cut2.ply final.ply eval_*.json))
+ifneq ($(and $(RUN_FILES),$(wildcard $(BIN)/validate),$(filter-out help clean,$(or $(MAKECMDGOALS),all))),)
+DAMAGED := $(shell TETMVS_LOG= '$(BIN)/validate' --names --quiet $(RUN_FILES) 2>/dev/null)
+endif
+target_of = $(patsubst %/cut1.h5,%/cut1.ply,$(1))
+ifneq ($(DAMAGED),)
+$(info pipeline.mk: damaged, made again: $(notdir $(DAMAGED)))
+$(sort $(call target_of,$(DAMAGED))): FORCE
+endif
+.PHONY: FORCE
+FORCE:
 
 # --- stages ------------------------------------------------------------------------------
 .PHONY: all ingest mesh levels points cut1 cut2 final evaluate report help clean
@@ -190,8 +231,11 @@ report: $(RUN_DIR)/report/index.html
 $(RUN_DIR)/report/index.html: all | programs
 	$(BIN)/report $(RUN_DIR) --out $@ $(if $(QUIET),--quiet)
 
+# (only a folder this makefile ran in: it holds .params)
 clean:
-	rm -rf $(RUN_DIR)
+	@if [ -e '$(RUN_DIR)' ] && [ ! -d '$(RUN_DIR)/.params' ]; then \
+	  echo "pipeline.mk: $(RUN_DIR) is not a run folder (no .params in it): not removed" >&2; exit 1; fi
+	rm -rf '$(RUN_DIR)'
 
 # Single-quote a string for the shell (paper values contain quotes).
 shq = '$(subst ','\'',$(1))'

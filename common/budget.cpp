@@ -13,6 +13,15 @@ namespace tetmvs {
 
 namespace {
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+MemoryBudget g_stage_budget;  // bytes 0: none
+}  // namespace
+
+void set_stage_memory_budget(const MemoryBudget& b) { g_stage_budget = b; }
+
+void check_declared_bytes(double bytes, std::string_view what) {
+  if (g_stage_budget.bytes <= 0 || bytes <= g_stage_budget.bytes) return;
+  fail(what, " declares about ", format_bytes(bytes), ", over the memory budget of ", format_bytes(g_stage_budget.bytes),
+       " (", g_stage_budget.source, "): the file is damaged, or the budget too small for it");
 }
 
 MemoryBudget memory_budget(const Params& p) {

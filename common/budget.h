@@ -30,6 +30,15 @@ MemoryBudget memory_budget(const Params& p);
 void check_memory_budget(const Params& p, double estimated_bytes, std::string_view what,
                          std::string_view hint);
 
+// The budget of the running stage, set by StageCli from its parameters (none outside a
+// stage: unit tests). The readers check the sizes a file DECLARES (an HDF5 dataset's shape,
+// an image header's pixels, a PLY element count) against it before allocating, so that a
+// hostile or damaged header is refused naming the file instead of exhausting memory.
+void set_stage_memory_budget(const MemoryBudget& b);
+// Throws Error "<what> declares about X GiB, over the memory budget of Y GiB (<source>)"
+// when bytes exceeds the stage's budget (or is NaN); nothing without a stage budget.
+void check_declared_bytes(double bytes, std::string_view what);
+
 // In-memory size of a tetrahedral mesh (TetMesh arrays) with these counts.
 double mesh_bytes(double cells, double faces, double vertices, double nodes);
 // The same for a mesh of `cells` cells with the usual BCC proportions (faces ~ 2 per

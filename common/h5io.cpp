@@ -9,6 +9,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "common/budget.h"
 #include "common/error.h"
 #include "common/fileio.h"
 #include "common/sha256.h"
@@ -18,9 +19,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// HDF5 prints its own error stacks by default; we report errors ourselves.
+// HDF5 prints its own error stacks by default; we report errors ourselves. And the library
+// must not clean up at exit: after a failed write (disk full) a file it could not close is
+// still in its tables, and its exit handler then crashes trying to close it again. Every
+// file is closed explicitly (File::close), so there is nothing left for it to do.
 struct Silence {
-  Silence() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+  Silence() {
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
 };
 const Silence kSilence;
 
@@ -31,6 +38,12 @@ struct Id {
   Id(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
   ~Id() {
     if (id >= 0) close(id);
+  }
+  // Closes now; false when the library reports an error (e.g. a write it had buffered failed).
+  bool close_now() {
+    const hid_t i = id;
+    id = -1;
+    return i < 0 || close(i) >= 0;
   }
   Id(const Id&) = delete;
   Id& operator=(const Id&) = delete;
@@ -94,13 +107,14 @@ File File::create(const fs::path& target) {
   File f;
   f.target_ = target;
   f.tmp_ = temp_path_for(target);
-  if (target.has_parent_path()) {
-    std::error_code ec;
-    fs::create_directories(target.parent_path(), ec);
-  }
+  make_parent_dirs(target);
   remove_stale_temps(target);
   f.id_ = H5Fcreate(f.tmp_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (f.id_ < 0) fail(target.string(), ": cannot create HDF5 file");
+  if (f.id_ < 0) {
+    std::error_code ec;
+    fs::remove(f.tmp_, ec);
+    fail(target.string(), ": cannot create HDF5 file (disk full or file size limit?)");
+  }
   f.writable_ = true;
   return f;
 }
@@ -109,12 +123,14 @@ File File::open(const fs::path& file, const std::string& schema, int min_version
                 int max_version) {
   if (!fs::exists(file)) fail(file.string(), ": file does not exist");
   if (fs::is_directory(file)) fail(file.string(), ": is a folder, expected an HDF5 file");
+  check_regular_file(file);
   if (H5Fis_hdf5(file.c_str()) <= 0)
     fail(file.string(), ": not a readable HDF5 file (truncated, empty or another format)");
   File f;
   f.target_ = file;
   f.id_ = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (f.id_ < 0) fail(file.string(), ": cannot open HDF5 file (truncated or corrupt?)");
+  note_input(file);
   if (!schema.empty()) {
     if (!f.has_attr("/", "schema"))
       fail(file.string(), ": no 'schema' attribute; expected a ", schema, " file");
@@ -159,9 +175,10 @@ File::~File() { close(); }
 
 void File::commit() {
   require(writable_ && !committed_, target_.string(), ": commit() on a file not open for writing");
-  if (H5Fflush(id_, H5F_SCOPE_GLOBAL) < 0) fail(target_.string(), ": flush failed (disk full?)");
-  H5Fclose(id_);
+  if (H5Fflush(id_, H5F_SCOPE_GLOBAL) < 0) fail(target_.string(), ": flush failed (disk full or file size limit?)");
+  const herr_t closed = H5Fclose(id_);
   id_ = -1;
+  if (closed < 0) fail(target_.string(), ": closing failed (disk full or file size limit?)");
   commit_file(tmp_, target_);
   committed_ = true;
 }
@@ -237,7 +254,8 @@ void File::write(const std::string& name, const T* data, const Shape& shape, boo
   Id ds(H5Dcreate2(id_, n.c_str(), mem_type<T>(), space, H5P_DEFAULT, dcpl, H5P_DEFAULT), H5Dclose);
   if (ds < 0) fail(target_.string(), ": cannot create dataset ", n);
   if (total > 0 && H5Dwrite(ds, mem_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    fail(target_.string(), ": cannot write dataset ", n, " (disk full?)");
+    fail(target_.string(), ": cannot write dataset ", n, " (disk full or file size limit?)");
+  if (!ds.close_now()) fail(target_.string(), ": cannot write dataset ", n, " (disk full or file size limit?)");
 }
 
 void File::write_strings(const std::string& name, const std::vector<std::string>& v) {
@@ -253,8 +271,8 @@ void File::write_strings(const std::string& name, const std::vector<std::string>
   if (ds < 0) fail(target_.string(), ": cannot create dataset ", n);
   std::vector<const char*> ptrs;
   for (const auto& s : v) ptrs.push_back(s.c_str());
-  if (!v.empty() && H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()) < 0)
-    fail(target_.string(), ": cannot write dataset ", n);
+  if ((!v.empty() && H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()) < 0) || !ds.close_now())
+    fail(target_.string(), ": cannot write dataset ", n, " (disk full or file size limit?)");
 }
 
 Shape File::shape_of(const std::string& name) const {
@@ -300,6 +318,9 @@ Array<T> File::read(const std::string& name, const std::vector<std::int64_t>& ex
       fail(where, " has shape ", shape_str(a.shape), ", expected ", es.str());
     }
   }
+  double declared = sizeof(T);
+  for (auto d : a.shape) declared *= static_cast<double>(d);
+  check_declared_bytes(declared, where + " of shape " + shape_str(a.shape));
   std::uint64_t total = 1;
   for (auto d : a.shape) total *= d;
   a.data.resize(total);
@@ -322,6 +343,7 @@ std::vector<std::string> File::read_strings(const std::string& name) const {
   if (H5Tget_class(ftype) != H5T_STRING) fail(where, " is not a string dataset");
   const Shape sh = shape_of(n);
   if (sh.size() != 1) fail(where, " must be one-dimensional");
+  check_declared_bytes(64.0 * static_cast<double>(sh[0]), where + " of " + std::to_string(sh[0]) + " strings");
   std::vector<std::string> out(sh[0]);
   if (H5Tis_variable_str(ftype) > 0) {
     Id mt(H5Tcopy(H5T_C_S1), H5Tclose);
@@ -424,6 +446,7 @@ std::vector<T> read_attr_numeric(hid_t file, const fs::path& path, const std::st
   if (c != H5T_FLOAT && c != H5T_INTEGER) fail(where, " is not numeric");
   Id space(H5Aget_space(a), H5Sclose);
   const hssize_t n = H5Sget_simple_extent_npoints(space);
+  check_declared_bytes(8.0 * static_cast<double>(n), where);
   std::vector<T> v(std::max<hssize_t>(n, 0));
   if (n > 0 && H5Aread(a, mem_type<T>(), v.data()) < 0) fail(where, " cannot be read");
   return v;

@@ -3,12 +3,21 @@
 #pragma once
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <opencv2/core.hpp>
 
 namespace tetmvs {
 
+// The pixel size an image file declares in its header, read without decoding it (PNG,
+// JPEG, BMP, TIFF, PNM); nullopt for other formats or a header too short to tell.
+struct ImageSize {
+  std::int64_t width = 0, height = 0;
+};
+std::optional<ImageSize> read_image_size(const std::filesystem::path& file);
+
 // Loads an 8-bit image as RGB (CV_8UC3). Throws Error naming the file when it is
-// missing, unreadable or not 8-bit.
+// missing, unreadable or not 8-bit, or when its header declares more pixels than the
+// stage's memory budget holds (checked before decoding; common/budget.h).
 cv::Mat load_rgb(const std::filesystem::path& file);
 // Loads a mask (any depth/channels) as CV_8U with 255 where the first channel > 127.
 cv::Mat load_mask(const std::filesystem::path& file);

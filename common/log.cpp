@@ -11,6 +11,7 @@ namespace tetmvs {
 namespace {
 std::atomic<bool> g_quiet{false};
 std::mutex g_io;
+std::vector<std::string> g_warnings;
 }  // namespace
 
 void set_quiet(bool q) { g_quiet = q; }
@@ -19,6 +20,12 @@ bool is_quiet() { return g_quiet; }
 void log_line(const std::string& level, const std::string& msg) {
   std::lock_guard<std::mutex> lock(g_io);
   std::fprintf(stderr, "%s%s\n", level.c_str(), msg.c_str());
+  if (level == "warning: ") g_warnings.push_back(msg);
+}
+
+std::vector<std::string> warnings_given() {
+  std::lock_guard<std::mutex> lock(g_io);
+  return g_warnings;
 }
 
 std::int64_t peak_memory_bytes() {

@@ -7,12 +7,15 @@
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace tetmvs {
 
 void set_quiet(bool q);
 bool is_quiet();
 void log_line(const std::string& level, const std::string& msg);
+// Every warning given so far by this process (the stage's run log records them).
+std::vector<std::string> warnings_given();
 
 template <typename... Args>
 void info(const Args&... parts) {

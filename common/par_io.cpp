@@ -34,6 +34,8 @@ bool parse_double(const std::string& s, double& v) {
 }  // namespace
 
 std::vector<Camera> read_par(const fs::path& file, double rot_tol) {
+  check_regular_file(file);
+  note_input(file);
   std::ifstream in(file);
   if (!in) fail(file.string(), ": cannot open camera file");
   std::string line;

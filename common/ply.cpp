@@ -1,5 +1,6 @@
 #include "common/ply.h"
 
+#include <algorithm>
 #include <bit>
 #include <cctype>
 #include <cmath>
@@ -96,12 +97,15 @@ class Body {
   const std::string& file_;
 };
 
-}  // namespace
+struct Header {
+  Format fmt;
+  std::vector<Element> elems;
+  std::size_t body;  // offset of the first byte after end_header
+};
 
-TriMesh read_ply(const std::filesystem::path& path) {
-  const std::string file = path.string();
-  const std::string data = read_file(path);
-  // --- header ---
+// The header (up to end_header) of a PLY file of file_size bytes whose first bytes are
+// `data`; every problem is an Error naming the file.
+Header parse_header(const std::string& data, const std::string& file, std::uint64_t file_size) {
   std::size_t pos = 0;
   auto next_line = [&](std::string& line) {
     if (pos >= data.size()) fail(file, ": header has no end_header line");
@@ -163,6 +167,50 @@ TriMesh read_ply(const std::filesystem::path& path) {
     }
   }
   require(have_format, file, ": header has no format line");
+  // Element counts the body cannot hold (a damaged or hostile header) are refused before
+  // anything is allocated: each row takes at least its fixed-size properties (binary) or
+  // two characters a value (ascii).
+  {
+    double need = 0;
+    for (const Element& e : elems) {
+      double row = 0;
+      for (const Prop& p : e.props)
+        row += fmt == Format::ascii ? 2 : type_size(p.is_list ? p.count_type : p.type);
+      need += static_cast<double>(e.count) * std::max(row, 1.0);
+    }
+    const double have = static_cast<double>(file_size) - static_cast<double>(pos);
+    if (need > have) {
+      std::string counts;
+      for (const Element& e : elems) counts += (counts.empty() ? "" : ", ") + std::to_string(e.count) + " " + e.name;
+      fail(file, ": the header declares ", counts, " but the file holds only ", file_size - pos,
+           " bytes of data (truncated or damaged)");
+    }
+  }
+
+  return {fmt, std::move(elems), pos};
+}
+
+}  // namespace
+
+void check_ply_header(const std::filesystem::path& path) {
+  check_regular_file(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path.string(), ": cannot open (missing or unreadable)");
+  std::string head(1 << 16, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  parse_header(head, path.string(), ec ? head.size() : size);
+}
+
+TriMesh read_ply(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  const std::string data = read_file(path);
+  const Header h = parse_header(data, file, data.size());
+  const Format fmt = h.fmt;
+  const std::vector<Element>& elems = h.elems;
+  const std::size_t pos = h.body;
 
   TriMesh m;
   Body body(data, pos, fmt, file);

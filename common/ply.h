@@ -25,6 +25,9 @@ struct PlyWriteOptions {
 };
 
 TriMesh read_ply(const std::filesystem::path& file);
+// Reads only the header and checks that the file is long enough for the element counts it
+// declares; an Error names the file and the problem.
+void check_ply_header(const std::filesystem::path& file);
 // Atomic write (temporary file renamed into place).
 void write_ply(const std::filesystem::path& file, const TriMesh& mesh, const PlyWriteOptions& opt = {});
 

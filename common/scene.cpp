@@ -1,6 +1,7 @@
 #include "common/scene.h"
 
 #include <cstring>
+#include <sstream>
 
 #include "common/error.h"
 #include "common/h5io.h"
@@ -128,7 +129,77 @@ Scene read_scene(const std::filesystem::path& file, bool images) {
     require(lo[k] < hi[k], fn, ": /box/min must be below /box/max on every axis");
   s.box = Eigen::AlignedBox3d(Eigen::Vector3d(lo[0], lo[1], lo[2]), Eigen::Vector3d(hi[0], hi[1], hi[2]));
   s.box_source = f.has_attr("/box", "source") ? f.attr_string("/box", "source") : "";
+  check_scene_geometry(s, fn);  // refusals only: ingest gave the warnings
   return s;
+}
+
+namespace {
+std::string name_of(const Scene& s, int v) { return "view " + std::to_string(v) + " (" + s.cams[v].name + ")"; }
+std::string xyz(const Eigen::Vector3d& p) {
+  std::ostringstream os;
+  os << "(" << p.x() << " " << p.y() << " " << p.z() << ")";
+  return os.str();
+}
+}  // namespace
+
+std::vector<std::string> check_scene_geometry(const Scene& s, const std::string& where) {
+  const int n = s.size();
+  require(n >= 2, where, ": ", n, " view; photo-consistency needs at least two views of the object");
+  const Eigen::Vector3d lo = s.box.min(), hi = s.box.max();
+  require(lo.allFinite() && hi.allFinite() && (hi - lo).allFinite() && (lo.array() < hi.array()).all(), where,
+          ": the box ", xyz(lo), " - ", xyz(hi), " is not a finite box with min below max");
+  std::vector<std::string> warnings;
+  std::vector<int> blind;
+  for (int v = 0; v < n; ++v) {
+    const Camera& c = s.cams[v];
+    const Eigen::Vector3d C = c.centre();
+    require(C.allFinite(), where, ": ", name_of(s, v), " has no finite centre");
+    require(!s.box.contains(C), where, ": the camera of ", name_of(s, v), " at ", xyz(C), " is inside the box ",
+            xyz(lo), " - ", xyz(hi), "; the object must be seen from outside its box: check the box "
+            "(bbox.txt, README.txt or ingest.box) and the cameras");
+    // sees any of 5 x 5 x 5 points spread over the box (corners, faces, inside)?
+    bool sees = false;
+    for (int k = 0; k < 125 && !sees; ++k) {
+      const Eigen::Vector3d f((k % 5) / 4.0, (k / 5 % 5) / 4.0, (k / 25) / 4.0);
+      sees = c.sees(lo + f.cwiseProduct(hi - lo));
+    }
+    if (!sees) blind.push_back(v);
+  }
+  if (n - static_cast<int>(blind.size()) < 2)
+    fail(where, ": only ", n - static_cast<int>(blind.size()), " of ", n, " views see the box ", xyz(lo), " - ",
+         xyz(hi), "; photo-consistency needs two: check the box and the cameras (is a camera facing away?)");
+  for (int v : blind)
+    warnings.push_back(where + ": " + name_of(s, v) + " sees none of the box (it faces away, or the box lies outside "
+                       "its image): it contributes nothing");
+  const double diag = s.box.diagonal().norm();
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b)
+      if ((s.cams[a].centre() - s.cams[b].centre()).norm() < 1e-6 * diag &&
+          (s.cams[a].axis() - s.cams[b].axis()).norm() < 1e-6)
+        warnings.push_back(where + ": " + name_of(s, a) + " and " + name_of(s, b) +
+                           " have the same pose (centre and direction): their photos agree at any depth, so "
+                           "photo-consistency between the two measures nothing");
+  return warnings;
+}
+
+std::vector<std::string> check_scene_images(const Scene& s, const std::string& where) {
+  std::vector<std::string> warnings;
+  int uniform = 0;
+  for (int v = 0; v < static_cast<int>(s.rgb.size()); ++v) {
+    cv::Scalar mean, sd;
+    cv::meanStdDev(s.rgb[v], mean, sd);
+    if (sd[0] < 0.5 && sd[1] < 0.5 && sd[2] < 0.5) {
+      ++uniform;
+      std::ostringstream os;
+      os << where << ": " << name_of(s, v) << " is uniform (every pixel about (" << std::lround(mean[0]) << ", "
+         << std::lround(mean[1]) << ", " << std::lround(mean[2]) << ")): it has no texture to match";
+      warnings.push_back(os.str());
+    }
+  }
+  if (!s.rgb.empty() && uniform == static_cast<int>(s.rgb.size()))
+    fail(where, ": every image is uniform (", warnings.front().substr(where.size() + 2),
+         "); there is nothing to reconstruct from");
+  return warnings;
 }
 
 }  // namespace tetmvs

@@ -30,8 +30,19 @@ struct Scene {
   bool in_silhouette(int v, double u, double vv, bool outside_value) const;
 };
 
-// Reads scene.h5 (validated: schema, shapes, rotations, box). images = false skips the
-// colour images (cameras, box and silhouettes only).
+// Scenes that cannot give a meaningful reconstruction are refused: Error "<where>: <why>"
+// for fewer than two cameras, a box that is not finite, a camera inside the box (the method
+// reconstructs an object seen from outside its box), or fewer than two views that see any
+// of the box. Returns warnings for the suspicious parts: each view that sees none of the
+// box (it faces away, or the box falls outside its image), two cameras with the same pose
+// (the Middlebury rings close on themselves: dinoRing's views 2 and 48).
+std::vector<std::string> check_scene_geometry(const Scene& s, const std::string& where);
+// The images (ingest): Error when every image is uniform (no texture to match, e.g. all
+// black); a warning for each uniform one.
+std::vector<std::string> check_scene_images(const Scene& s, const std::string& where);
+
+// Reads scene.h5 (validated: schema, shapes, rotations, box, check_scene_geometry's
+// refusals). images = false skips the colour images (cameras, box and silhouettes only).
 Scene read_scene(const std::filesystem::path& file, bool images = true);
 
 // Writes the scene's datasets into an open HDF5 file (the caller writes the header

@@ -3,20 +3,23 @@
 #include <omp.h>
 
 #include <chrono>
+#include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <nlohmann/json.hpp>
-#include <cstdio>
 #include <opencv2/core.hpp>
 
+#include "common/budget.h"
 #include "common/error.h"
+#include "common/fileio.h"
 
 namespace tetmvs {
 
 StageCli::StageCli(std::string stage, std::string description)
     : stage_(std::move(stage)), app_(std::move(description), stage_) {
-  app_.add_option("--params", params_file_,
-                  "JSON file of parameter overrides {\"key\": value} (e.g. a dataset's params.json)");
+  add_input("--params", params_file_,
+            "JSON file of parameter overrides {\"key\": value} (e.g. a dataset's params.json)");
   app_.add_option("--set", sets_, "override one parameter: --set key=value (repeatable)");
   app_.add_option("--threads", threads_, "worker threads (default: all cores); results do not depend on it");
   app_.add_flag("-q,--quiet", quiet_, "no progress or info messages, only errors and the summary");
@@ -27,29 +30,90 @@ StageCli::StageCli(std::string stage, std::string description)
   }
 }
 
+CLI::Option* StageCli::add_input(const std::string& flags, std::string& var, const std::string& desc, PathKind kind) {
+  CLI::Option* o = app_.add_option(flags, var, desc);
+  inputs_.push_back({o, &var, nullptr, kind == PathKind::Folder});
+  return o;
+}
+
+CLI::Option* StageCli::add_input(const std::string& flags, std::vector<std::string>& var, const std::string& desc) {
+  CLI::Option* o = app_.add_option(flags, var, desc);
+  inputs_.push_back({o, nullptr, &var, false});
+  return o;
+}
+
+CLI::Option* StageCli::add_output(const std::string& flags, std::string& var, const std::string& desc, PathKind kind) {
+  CLI::Option* o = app_.add_option(flags, var, desc);
+  outputs_.push_back({o, &var, nullptr, kind == PathKind::Folder});
+  return o;
+}
+
+std::vector<PathArg> StageCli::given(const std::vector<Declared>& d) {
+  std::vector<PathArg> out;
+  for (const auto& x : d) {
+    if (x.opt->count() == 0) continue;  // not on the command line
+    const std::string name = x.opt->get_name();
+    if (x.one) out.push_back({name, *x.one, x.folder});
+    if (x.many)
+      for (const auto& p : *x.many) out.push_back({name, p, x.folder});
+  }
+  return out;
+}
+
+namespace {
+
+// --threads within range, and without it the number the environment (OMP_NUM_THREADS) asks
+// for: OpenMP aborts the program when it cannot make the threads.
+void check_threads(int threads) {
+  if (threads < 0 || threads > kMaxThreads)
+    fail("--threads ", threads, ": must be from 1 to ", kMaxThreads, " (or 0: all cores)");
+  if (threads == 0 && omp_get_max_threads() > kMaxThreads)
+    fail("environment OMP_NUM_THREADS asks for ", omp_get_max_threads(), " threads, more than ", kMaxThreads,
+         "; unset it or give --threads");
+}
+
+}  // namespace
+
 int StageCli::run(int argc, char** argv, const std::function<void(StageContext&)>& body) {
   try {
     app_.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
+  } catch (const CLI::Success& e) {  // --help
     return app_.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // one line, like every other error
+    std::fprintf(stderr, "%s: error: %s (see --help)\n", stage_.c_str(), e.what());
+    return 2;
   }
+  // A file size limit (ulimit -f) makes writes fail with an error we report, instead of
+  // killing the stage with SIGXFSZ.
+  std::signal(SIGXFSZ, SIG_IGN);
   const auto t0 = std::chrono::steady_clock::now();
+  std::vector<PathArg> inputs;
   try {
     StageContext ctx;
     ctx.stage = stage_;
     ctx.quiet = quiet_;
     set_quiet(quiet_);
+    check_threads(threads_);
     ctx.params = Params::defaults();
     if (!params_file_.empty()) ctx.params.merge_file(params_file_);
     for (const auto& s : sets_) ctx.params.set(s);
-    if (threads_ < 0) fail("--threads must be >= 0");
+    set_stage_memory_budget(memory_budget(ctx.params));
+    // every path before any work
+    inputs = given(inputs_);
+    ctx.outputs = given(outputs_);
+    check_output_paths(ctx.outputs, inputs);
     ctx.threads = threads_;
     if (threads_ > 0) {
       omp_set_num_threads(threads_);
       cv::setNumThreads(threads_);
     }
     cv::setRNGSeed(0);
-    body(ctx);
+    {
+      CommitGroup outputs;  // the outputs appear together at the end, or not at all
+      body(ctx);
+      outputs.commit_all();
+    }
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::fprintf(stderr, "[%s] done in %.2f s, peak memory %.0f MB%s%s\n", stage_.c_str(), secs,
                  peak_memory_bytes() / 1048576.0, ctx.summary.empty() ? "" : "; ",
@@ -64,8 +128,9 @@ int StageCli::run(int argc, char** argv, const std::function<void(StageContext&)
       for (int i = 1; i < argc; ++i) args += (i > 1 ? " " : "") + std::string(argv[i]);
       j["args"] = args;
       j["cpu_seconds"] = static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+      if (const auto w = warnings_given(); !w.empty()) j["warnings"] = w;
       if (FILE* f = std::fopen(log, "a")) {
-        std::fprintf(f, "%s\n", j.dump().c_str());
+        std::fprintf(f, "%s\n", j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());
         std::fclose(f);
       }
     }
@@ -75,8 +140,10 @@ int StageCli::run(int argc, char** argv, const std::function<void(StageContext&)
   } catch (const cv::Exception& e) {
     std::fprintf(stderr, "%s: error: OpenCV: %s\n", stage_.c_str(), e.err.c_str());
   } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "%s: error: out of memory; reduce the problem size (e.g. fewer levels)\n",
-                 stage_.c_str());
+    std::string names;
+    for (const auto& i : inputs) names += (names.empty() ? "" : ", ") + i.path.string();
+    std::fprintf(stderr, "%s: error: out of memory%s; reduce the problem size (e.g. fewer levels)\n", stage_.c_str(),
+                 names.empty() ? "" : (" working on " + names).c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: error: internal: %s\n", stage_.c_str(), e.what());
   }

@@ -1,22 +1,32 @@
 // The frame every stage program shares: command line (CLI11) with --params, --set,
-// --threads, --quiet; error handling (Error -> one line on stderr, exit 1); a summary
-// line at the end (seconds, peak memory).
+// --threads, --quiet; the paths it reads and writes, checked before any work
+// (common/outputs.h); its outputs committed together at the end, or none of them when it
+// fails (common/fileio.h, CommitGroup); error handling (Error -> one line on stderr, exit 1);
+// a summary line at the end (seconds, peak memory), and one JSON line in $TETMVS_LOG with
+// the warnings the stage gave.
 //
 //   int main(int argc, char** argv) {
 //     tetmvs::StageCli cli("refine", "Red-green refinement of the active cells.");
 //     std::string in, out;
-//     cli.app().add_option("--mesh", in, "input mesh (HDF5)")->required();
+//     cli.add_input("--mesh", in, "input mesh (HDF5)")->required();
+//     cli.add_output("--out", out, "output mesh (HDF5)")->required();
 //     return cli.run(argc, argv, [&](tetmvs::StageContext& ctx) { ... });
 //   }
 #pragma once
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "common/log.h"
+#include "common/outputs.h"
 #include "common/params.h"
 
 namespace tetmvs {
+
+// Most worker threads --threads accepts (each costs a stack; far more than any machine's cores).
+inline constexpr int kMaxThreads = 1024;
 
 struct StageContext {
   std::string stage;
@@ -25,22 +35,46 @@ struct StageContext {
   int threads = 0;  // 0 = OpenMP default
   // Free-form summary fields printed at the end ("cells=123 faces=456").
   std::string summary;
+  // The outputs the command line named (checked before the body runs).
+  std::vector<PathArg> outputs;
+  // An input found while working (e.g. the par file of a dataset folder): refused when it
+  // is one of the outputs; `what` names it in the message.
+  void add_input(const std::filesystem::path& file, const std::string& what) const {
+    check_not_output({what, file, false}, outputs);
+  }
 };
+
+enum class PathKind { File, Folder };
 
 class StageCli {
  public:
   StageCli(std::string stage, std::string description);
   CLI::App& app() { return app_; }
-  // Parses, sets up params/threads, runs body; returns the process exit code.
+  // Options naming what the stage reads and writes (see the top of the file).
+  CLI::Option* add_input(const std::string& flags, std::string& var, const std::string& desc,
+                         PathKind kind = PathKind::File);
+  CLI::Option* add_input(const std::string& flags, std::vector<std::string>& var, const std::string& desc);
+  CLI::Option* add_output(const std::string& flags, std::string& var, const std::string& desc,
+                          PathKind kind = PathKind::File);
+  // Parses, sets up params/threads, checks the paths, runs body, commits its outputs;
+  // returns the process exit code.
   int run(int argc, char** argv, const std::function<void(StageContext&)>& body);
 
  private:
+  struct Declared {
+    CLI::Option* opt;
+    std::string* one;
+    std::vector<std::string>* many;
+    bool folder;
+  };
+  static std::vector<PathArg> given(const std::vector<Declared>& d);
   std::string stage_;
   CLI::App app_;
   std::string params_file_;
   std::vector<std::string> sets_;
   bool quiet_ = false;
   int threads_ = 0;
+  std::vector<Declared> inputs_, outputs_;
 };
 
 }  // namespace tetmvs

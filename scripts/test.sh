@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The README's test command: installs what is missing, builds, runs every test, then
 # rebuilds with AddressSanitizer + UndefinedBehaviorSanitizer and runs the unit tests and a
-# mini end-to-end pipeline under them.
+# mini end-to-end pipeline under them, and the hostile-input tests (tests/e2e/test_hostile.py --quick).
 #   SANITIZE=0 bash scripts/test.sh       skips the sanitizer pass
 #   SANITIZE_E2E=1 bash scripts/test.sh   also runs the small pipeline under the sanitizers
 set -euo pipefail
@@ -45,6 +45,10 @@ if [ "${SANITIZE:-1}" != "0" ]; then
     MESH_CELLS=8 QUIET=1 final evaluate
   /usr/bin/python3 -c "import json,sys; c=json.load(open(sys.argv[1]))['completeness']['value']; \
 print('mini pipeline under sanitizers: final completeness', c); sys.exit(0 if c > 0.9 else 1)" "$mini/run/eval_final.json"
+  # hostile files, a full disk, nonsense scenes on a 6-view scene of 64 x 48 (the failure
+  # paths: a sanitizer report is one more line and fails the test)
+  echo "== hostile inputs (ASan + UBSan)"
+  /usr/bin/python3 tests/e2e/test_hostile.py build-asan/bin . --quick
   if [ "${SANITIZE_E2E:-0}" = "1" ]; then
     /usr/bin/python3 tests/e2e/test_pipeline.py build-asan/bin .
   fi

@@ -11,6 +11,7 @@
 
 #include "common/deform/forces.h"
 #include "common/deform/intersect.h"
+#include "common/deform/photometric.h"
 #include "common/deform/remesh.h"
 #include "common/deform/topology.h"
 #include "common/error.h"
@@ -177,8 +178,8 @@ std::vector<std::pair<int, int>> intersections_after_remesh(const std::vector<Ei
 
 // Renumbers vertices along a Morton (Z-order) curve of their positions and sorts the
 // faces by their lowest new vertex (ties: old order): neighbours in the mesh become
-// neighbours in memory, and so do their pixels in the images and rasters (the texture
-// probes, the rasteriser and the intersection grid were bound by cache misses).
+// neighbours in memory, and so do their pixels in the images and rasters (the rasteriser,
+// the photometric force's hit points and the intersection grid are bound by cache misses).
 void reorder_for_locality(RemeshMesh& m) {
   const int nv = static_cast<int>(m.V.size()), nf = static_cast<int>(m.F.size());
   if (nv == 0) return;
@@ -211,15 +212,11 @@ void reorder_for_locality(RemeshMesh& m) {
   std::vector<int> id(nv);
   std::vector<Eigen::Vector3d> V(nv);
   std::vector<double> fp(nv);
-  std::vector<std::uint8_t> settled(m.settled.empty() ? 0 : nv);
-  std::vector<float> drift(m.drift.empty() ? 0 : nv);
   for (int k = 0; k < nv; ++k) {
     const int v = key[k].second;
     id[v] = k;
     V[k] = m.V[v];
     fp[k] = m.fp[v];
-    if (!settled.empty()) settled[k] = m.settled[v];
-    if (!drift.empty()) drift[k] = m.drift[v];
   }
   std::vector<std::pair<int, int>> fk(nf);
   for (int f = 0; f < nf; ++f) {
@@ -235,8 +232,6 @@ void reorder_for_locality(RemeshMesh& m) {
   m.V.swap(V);
   m.F.swap(F);
   m.fp.swap(fp);
-  m.settled.swap(settled);
-  m.drift.swap(drift);
 }
 
 // Removes self-intersections (made by remeshing, or present in the input) by umbrella
@@ -299,9 +294,8 @@ std::int64_t unfold(RemeshMesh& M, std::vector<std::pair<int, int>>& current) {
 
 }  // namespace
 
-Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt, const photo::Options& popt) {
+Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt) {
   opt.check();
-  popt.check();
   check_input(start);
   require(scene.size() > 0, "deform: the scene has no cameras");
   require(static_cast<int>(scene.grey.size()) == scene.size(), "deform: the scene's grey images are not loaded");
@@ -311,11 +305,16 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
   for (const auto& c : scene.cams) cam_fp.push_back((scene.box.center() - c.centre()).norm() / c.focal());
   const double fallback_fp = median(cam_fp);
 
-  const photo::Views views(scene.cams, scene.grey, popt.use_silhouettes ? scene.sil : std::vector<cv::Mat>{});
-  // the texture force's image-pyramid levels (Options::texture_level)
+  // the photometric force's image pyramid and partners (Options::photo_level)
+  const photo::Views views(scene.cams, scene.grey);
   std::vector<photo::Views> pyramid{views};
-  for (int l = 1; l <= opt.texture_pyramid; ++l) pyramid.push_back(views.reduced(l));
-  int texture_level = -1;
+  std::vector<std::vector<Camera>> pyramid_cams{scene.cams};
+  for (int l = 1; l <= opt.photo_coarsest_level; ++l) {
+    pyramid.push_back(views.reduced(l));
+    pyramid_cams.push_back(reduced_cameras(scene.cams, l));
+  }
+  const std::vector<std::vector<int>> partners = photometric_partners(
+      scene.cams, scene.box.center(), opt.photo_baseline_min_deg, opt.photo_baseline_max_deg, opt.photo_partners);
   std::vector<cv::Mat> sd(nc);
   for (int i = 0; i < nc; ++i)
     if (scene.has_silhouette(i)) sd[i] = signed_distance(scene.sil[i]);
@@ -324,8 +323,6 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
   M.V = start.V;
   M.F = start.F;
   M.fp = vertex_footprints(M.V, scene.cams, fallback_fp);
-  M.settled.assign(M.V.size(), 0);
-  M.drift.assign(M.V.size(), 0.f);
   reorder_for_locality(M);
 
   Result res;
@@ -361,59 +358,32 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
     std::vector<int> rim;
     const std::vector<Eigen::Vector3d> fsil = silhouette_force(M.V, N, M.fp, scene.cams, sd, rasters, vis, opt, rim);
     pt.lap(kPartSmoothSil);
-    std::vector<TextureProbe> probes;
-    std::vector<Eigen::Vector3d> ftex;
-    if (it >= opt.texture_start && opt.w_texture > 0) {
-      // Every texture_recheck-th texture iteration probes every vertex; the others only
-      // those that have not settled (last probe: a clear peak farther than
-      // texture_settle_px) and those made by remeshing.
-      const bool sweep = (it - opt.texture_start) % opt.texture_recheck == 0;
-      std::vector<std::uint8_t> active(nv, 1);
-      if (!sweep)
-        for (int v = 0; v < nv; ++v) active[v] = !M.settled[v];
-      else  // full sweeps skip settled vertices that have not moved since their last probe
-        for (int v = 0; v < nv; ++v) active[v] = !M.settled[v] || M.drift[v] >= opt.texture_settle_px;
-      const std::vector<double> H =
-          opt.texture_sag_rounds > 0 ? mean_curvature(M.V, N, topo, opt.texture_sag_rounds) : std::vector<double>{};
-      // coarse to fine: a vertex settled on a coarser level is probed again on the next
-      const int level = opt.texture_level(it);
-      if (level != texture_level) {
-        if (texture_level >= 0) std::fill(active.begin(), active.end(), 1);
-        texture_level = level;
-      }
-      ftex = texture_force(M.V, N, M.fp, pyramid[level], opt.occlusion ? vis : std::vector<std::uint8_t>{}, active, opt,
-                           popt, probes, H, static_cast<double>(1 << level));
-      if (opt.texture_ring_weight > 0) {
-        // the move toward the peak blended with the neighbours' (applied) offsets along n
-        std::vector<Eigen::Vector3d> blended(ftex);
-#pragma omp parallel for schedule(static)
-        for (int v = 0; v < nv; ++v) {
-          if (!probes[v].applied) continue;
-          double sum = 0;
-          int cnt = 0;
-          for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) {
-            const int j = topo.nbr[q];
-            if (!probes[j].applied) continue;
-            sum += ftex[j].dot(N[v]);
-            ++cnt;
-          }
-          if (cnt > 0)
-            blended[v] = (1 - opt.texture_ring_weight) * ftex[v] + opt.texture_ring_weight * (sum / cnt) * N[v];
+    // The photometric step along the normal; where the silhouette force acts (disagreement
+    // beyond sil_tolerance_px) the silhouettes win: both move a rim vertex across the ray.
+    std::vector<double> fphoto;
+    st.photo_level = opt.w_photo > 0 ? opt.photo_level(it) : -1;
+    if (st.photo_level >= 0) {
+      const int l = st.photo_level;
+      const PhotometricGradient pg =
+          photometric_gradient(M.V, M.F, N, pyramid[l], pyramid_cams[l], partners, opt.photo_window);
+      fphoto = photometric_steps(pg, topo, l, M.fp);
+      st.mean_ncc = pg.mean_ncc;
+      st.photo_pixels = pg.pixels;
+      double sum_px = 0;
+      std::int64_t moved = 0;
+      for (int v = 0; v < nv; ++v)
+        if (fphoto[v] != 0) {
+          sum_px += std::abs(fphoto[v]) / M.fp[v];
+          ++moved;
         }
-        ftex.swap(blended);
-      }
-      for (int v = 0; v < nv; ++v)
-        if (probes[v].probed)
-          M.settled[v] = !probes[v].applied || std::abs(probes[v].offset_px) < opt.texture_settle_px;
-      for (int v = 0; v < nv; ++v)
-        if (probes[v].probed) M.drift[v] = 0.f;
+      st.photo_moved = nv ? static_cast<double>(moved) / nv : 0;
+      st.mean_photo_step_px = moved ? sum_px / static_cast<double>(moved) : 0;
     }
-
-    pt.lap(kPartTexture);
+    pt.lap(kPartPhoto);
     std::vector<Eigen::Vector3d> move(nv);
     for (int v = 0; v < nv; ++v) {
       Eigen::Vector3d d = fs[v] + opt.w_silhouette * fsil[v];
-      if (!ftex.empty()) d += opt.w_texture * ftex[v];
+      if (!fphoto.empty() && fsil[v].squaredNorm() == 0) d += opt.w_photo * fphoto[v] * N[v];
       const double lim = opt.max_move_px * M.fp[v];
       const double l = d.norm();
       if (l > lim) d *= lim / l;
@@ -454,7 +424,6 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
       const double l = (V1[v] - M.V[v]).norm();
       sum_move += l;
       sum_px += l / M.fp[v];
-      M.drift[v] += static_cast<float>(l / M.fp[v]);
       max_px = std::max(max_px, l / M.fp[v]);
       st.reduced_vertices += reduced[v] != 0;
       st.rim_vertices += rim[v] > 0;
@@ -462,25 +431,6 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
     st.mean_move = nv ? sum_move / nv : 0;
     st.mean_move_px = nv ? sum_px / nv : 0;
     st.max_move_px = max_px;
-    if (!probes.empty()) {
-      double ssum = 0, osum = 0;
-      std::int64_t ns = 0, na = 0, np = 0;
-      for (const auto& p : probes) {
-        np += p.probed;
-        if (p.best_score > -1.f) {
-          ssum += p.best_score;
-          ++ns;
-        }
-        if (p.applied) {
-          osum += std::abs(p.offset_px);
-          ++na;
-        }
-      }
-      st.mean_texture_score = ns ? ssum / ns : -1;
-      st.texture_applied = nv ? static_cast<double>(na) / nv : 0;
-      st.texture_probed = nv ? static_cast<double>(np) / nv : 0;
-      st.mean_texture_offset_px = na ? osum / na : 0;
-    }
     M.V.swap(V1);
     const std::vector<Eigen::Vector3d> V_moved = M.V;
     const std::vector<Eigen::Vector3i> F_moved = M.F;
@@ -507,9 +457,9 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt,
     st.vertices = static_cast<std::int64_t>(M.V.size());
     st.faces = static_cast<std::int64_t>(M.F.size());
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    info("deform: iteration ", it, ": move ", st.mean_move_px, " px (max ", st.max_move_px, "), texture ",
-         st.mean_texture_score, " (", 100 * st.texture_probed, "% probed, ", 100 * st.texture_applied, "% moved, |offset| ", st.mean_texture_offset_px,
-         " px), rim ", st.rim_vertices, ", IoU ", st.silhouette_iou, ", ", st.vertices, " v ", st.faces, " f, +",
+    info("deform: iteration ", it, ": move ", st.mean_move_px, " px (max ", st.max_move_px, "), photometric level ",
+         st.photo_level, " NCC ", st.mean_ncc, " (", st.photo_pixels, " pixels, ", 100 * st.photo_moved, "% moved, |step| ",
+         st.mean_photo_step_px, " px), rim ", st.rim_vertices, ", IoU ", st.silhouette_iou, ", ", st.vertices, " v ", st.faces, " f, +",
          st.splits, " -", st.collapses, " ~", st.flips, ", folds -", folds, ", reduced ", st.reduced_vertices, ", intersections ",
          st.intersections, ", ", st.seconds, " s");
     info("deform: iteration ", it, " seconds (wall/cpu): ", part_summary(st.part_seconds, st.part_cpu_seconds));
@@ -569,7 +519,9 @@ void write_stats(const std::filesystem::path& file, const Result& r, const std::
   const size_t n = r.iterations.size();
   std::vector<std::int32_t> iter(n);
   std::vector<std::int64_t> nvert(n), nface(n), rim(n), splits(n), collapses(n), flips(n), reduced(n), inter(n);
-  std::vector<double> move(n), move_px(n), max_px(n), score(n), applied(n), probed(n), offset(n), iou(n);
+  std::vector<std::int32_t> level(n);
+  std::vector<std::int64_t> pixels(n);
+  std::vector<double> move(n), move_px(n), max_px(n), ncc(n), moved(n), step(n), iou(n);
   for (size_t i = 0; i < n; ++i) {
     const auto& s = r.iterations[i];
     iter[i] = s.iteration;
@@ -584,10 +536,11 @@ void write_stats(const std::filesystem::path& file, const Result& r, const std::
     move[i] = s.mean_move;
     move_px[i] = s.mean_move_px;
     max_px[i] = s.max_move_px;
-    score[i] = s.mean_texture_score;
-    applied[i] = s.texture_applied;
-    probed[i] = s.texture_probed;
-    offset[i] = s.mean_texture_offset_px;
+    level[i] = s.photo_level;
+    pixels[i] = s.photo_pixels;
+    ncc[i] = s.mean_ncc;
+    moved[i] = s.photo_moved;
+    step[i] = s.mean_photo_step_px;
     iou[i] = s.silhouette_iou;
   }
   f.create_group("/iterations");
@@ -597,10 +550,11 @@ void write_stats(const std::filesystem::path& file, const Result& r, const std::
   f.write("/iterations/mean_move", move);
   f.write("/iterations/mean_move_px", move_px);
   f.write("/iterations/max_move_px", max_px);
-  f.write("/iterations/mean_texture_score", score);
-  f.write("/iterations/texture_applied", applied);
-  f.write("/iterations/texture_probed", probed);
-  f.write("/iterations/mean_texture_offset_px", offset);
+  f.write("/iterations/photo_level", level);
+  f.write("/iterations/photo_pixels", pixels);
+  f.write("/iterations/mean_ncc", ncc);
+  f.write("/iterations/photo_moved", moved);
+  f.write("/iterations/mean_photo_step_px", step);
   f.write("/iterations/rim_vertices", rim);
   f.write("/iterations/silhouette_iou", iou);
   f.write("/iterations/splits", splits);

@@ -1,7 +1,8 @@
 // deform (paper section 3.3, brief step 7): the cut surface S2 (closed, outward,
 // edge-manifold, faceted at the tetrahedral cells' resolution) refined into the final
-// mesh H by moving its vertices under three forces (forces.h: non-shrinking smoothness,
-// silhouette, texture along the normal), remeshing as it goes (remesh.h: red-green
+// mesh H by moving its vertices under three forces (forces.h: non-shrinking smoothness and
+// silhouettes; photometric.h: the Gauss-Newton step of a multi-view image similarity along
+// the normal, coarse to fine over an image pyramid), remeshing as it goes (remesh.h: red-green
 // splits of edges longer than max_edge_px in their finest view, collapses, flips), and
 // never creating self-intersections (intersect.h: the vertices of a new intersection get
 // their step halved, then reverted). Output: the mesh with vertex normals and colours
@@ -17,7 +18,6 @@
 #include <nlohmann/json.hpp>
 
 #include "common/deform/options.h"
-#include "common/photo/options.h"
 #include "common/scene.h"
 #include "common/trimesh/trimesh.h"
 
@@ -30,7 +30,7 @@ enum IterationPart {
   kPartRaster,
   kPartVisibility,
   kPartSmoothSil,
-  kPartTexture,
+  kPartPhoto,
   kPartMove,  // move + intersection checks and retries
   kPartRemesh,
   kPartRemeshCheck,
@@ -38,7 +38,7 @@ enum IterationPart {
   kNumParts
 };
 inline constexpr const char* kPartNames[kNumParts] = {"footprints", "topology", "raster",    "visibility",   "smooth+sil",
-                                                      "texture",    "move+isect", "remesh", "remesh-isect", "untangle"};
+                                                      "photo",      "move+isect", "remesh", "remesh-isect", "untangle"};
 
 struct IterationStats {
   int iteration = 0;
@@ -46,10 +46,11 @@ struct IterationStats {
   double mean_move = 0;       // mean |applied displacement| over vertices (world units)
   double mean_move_px = 0;    // ... in pixels of each vertex's finest view
   double max_move_px = 0;
-  double mean_texture_score = -1;  // mean best score along the normal over vertices that have one (-1: none)
-  double texture_applied = 0;      // fraction of vertices moved by the texture force
-  double texture_probed = 0;       // fraction of vertices whose texture profile was measured
-  double mean_texture_offset_px = 0;  // mean |peak offset| of those vertices (pixels)
+  int photo_level = -1;             // image-pyramid level of the photometric force (-1: none this iteration)
+  double mean_ncc = -1;            // mean NCC of the photometric windows (-1: none)
+  std::int64_t photo_pixels = 0;   // pixel pairs behind the photometric force
+  double photo_moved = 0;          // fraction of vertices with a photometric step
+  double mean_photo_step_px = 0;   // mean |photometric step| of those vertices (full-resolution pixels)
   std::int64_t rim_vertices = 0;   // vertices on a silhouette rim in at least one view
   double silhouette_iou = -1;      // mean IoU of the mesh's silhouettes before the move (-1: no silhouettes)
   std::int64_t splits = 0, collapses = 0, flips = 0;
@@ -70,7 +71,7 @@ struct Result {
 
 // scene: cameras, rgb and grey (load_grey() done), silhouettes optional per view.
 // start: closed, edge-manifold, outward-oriented (Error otherwise).
-Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt, const photo::Options& popt);
+Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt);
 
 // Per-vertex colours of m from each vertex's best view: the largest cos(normal, direction
 // to the camera) among the views in which it is visible; grey where none sees it.
@@ -82,6 +83,6 @@ void write_stats(const std::filesystem::path& file, const Result& r, const std::
                  const nlohmann::json& params, const std::vector<std::filesystem::path>& inputs);
 
 inline constexpr const char* kDeformSchema = "tetmvs.deform";
-inline constexpr int kDeformVersion = 1;
+inline constexpr int kDeformVersion = 2;
 
 }  // namespace tetmvs::deform

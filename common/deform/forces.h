@@ -4,7 +4,7 @@
 //   smoothness  tangential umbrella + small normal umbrella + normal bi-Laplacian;
 //   silhouette  rim vertices of a view moved across the view ray so that their
 //               projection lands on the true silhouette's boundary (signed distance map);
-//   texture     the best photo-consistency offset along the vertex normal.
+//   photometric the Gauss-Newton step of a multi-view image similarity (photometric.h).
 #pragma once
 #include <Eigen/Dense>
 #include <cstdint>
@@ -14,8 +14,6 @@
 #include "common/camera.h"
 #include "common/deform/options.h"
 #include "common/deform/topology.h"
-#include "common/photo/options.h"
-#include "common/photo/views.h"
 #include "common/trimesh/trimesh.h"
 
 namespace tetmvs::deform {
@@ -38,12 +36,6 @@ ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat&
 std::vector<Eigen::Vector3d> vertex_normals(const std::vector<Eigen::Vector3d>& V,
                                             const std::vector<Eigen::Vector3i>& F);
 
-// Mean curvature H per vertex (1/length; > 0 where convex, for outward normals): the mean
-// over the 1-ring of the normal curvatures (n_j - n_v) . (x_j - x_v) / |x_j - x_v|^2, then
-// averaged over the 1-ring `rounds` times (the estimate is noisy on a rough mesh).
-std::vector<double> mean_curvature(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3d>& N,
-                                   const Topology& topo, int rounds);
-
 // Pixel footprint (depth / focal) of each vertex in its finest view among those where it
 // is in front and inside the image; `fallback` where no view sees it.
 std::vector<double> vertex_footprints(const std::vector<Eigen::Vector3d>& V, const std::vector<Camera>& cams,
@@ -62,7 +54,7 @@ std::vector<Eigen::Vector3d> smooth_force(const std::vector<Eigen::Vector3d>& V,
 // rim: visible, |n . ray| < rim_cos, within sil_band_px inside the mesh's own rendered
 // silhouette). In a view, the vertex moves across the ray (along n minus its ray
 // component) so that the mesh's contour near it lands on the true one: by
-// (sd_true - sd_mesh) / slope, clamped to sil_max_px. rim_views[v] receives the number
+// (sd_true - sd_mesh) / slope, less sil_tolerance_px, clamped to sil_max_px. rim_views[v] receives the number
 // of such views. sd: signed_distance of each view's
 // silhouette (empty Mat: no silhouette, no force).
 std::vector<Eigen::Vector3d> silhouette_force(const std::vector<Eigen::Vector3d>& V,
@@ -71,39 +63,5 @@ std::vector<Eigen::Vector3d> silhouette_force(const std::vector<Eigen::Vector3d>
                                               const std::vector<ViewRaster>& rasters,
                                               const std::vector<std::uint8_t>& vis, const Options& opt,
                                               std::vector<int>& rim_views);
-
-struct TextureProbe {
-  float best_score = -1.f;  // best score along the normal (-1: no score anywhere)
-  float offset_px = 0.f;    // refined offset of the peak (pixels along the normal)
-  bool applied = false;     // the peak was clear: the force moves toward it
-  bool probed = false;      // the vertex was active (its profile was measured)
-  bool far = false;         // no clear peak within texture_range_px: searched to texture_far_px
-};
-
-// Texture displacement per vertex (a plane sweep along the normal). Views: among those
-// that see the vertex (vis; may be empty: all) within texture_cone_deg of its normal, the
-// reference is the most frontal one; its partners are the next most frontal views whose
-// direction lies texture_baseline_min_deg..max_deg from the reference's (wide enough for
-// depth to show, at most texture_partners of them). A texture_mu x texture_mu patch on
-// the plane through X + t n (sample spacing: one reference pixel) is sampled in each;
-// the score at t is the mean NCC of the reference with its partners. t runs over
-// -range..range pixels (of the vertex's finest view) every texture_coarse_px, and over
-// -far..far (texture_far_px) when that shows no clear peak; around the best, steps halve
-// down to texture_step_px, then a parabola through the peak and its neighbours. When the peak is clear (score >= texture_min_score and the coarse profile
-// drops by texture_min_contrast on both sides) the displacement is offset * n.
-// active (may be empty: all): vertices to probe; the others get no force and an empty probe.
-// curvature (may be empty: none): mean curvature H per vertex (mean_curvature). The patch is
-// planar but the surface curves away from it: the plane that matches a convex patch best
-// lies inside the surface by the patch's mean sag, H * mean((i - c)^2) * spacing^2 (0.14
-// px on the synthetic torus' outside, measured); the offset is corrected by it.
-// views may be an image-pyramid level of the scene's (photo::Views::reduced): px_scale is
-// then its pixel size in full-resolution pixels (2^level), and the offsets, ranges and
-// steps above are in its pixels (fp stays the full resolution's footprint).
-std::vector<Eigen::Vector3d> texture_force(const std::vector<Eigen::Vector3d>& V,
-                                           const std::vector<Eigen::Vector3d>& N, const std::vector<double>& fp,
-                                           const photo::Views& views, const std::vector<std::uint8_t>& vis,
-                                           const std::vector<std::uint8_t>& active, const Options& opt,
-                                           const photo::Options& popt, std::vector<TextureProbe>& probes,
-                                           const std::vector<double>& curvature = {}, double px_scale = 1.0);
 
 }  // namespace tetmvs::deform

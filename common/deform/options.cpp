@@ -1,5 +1,6 @@
 #include "common/deform/options.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/error.h"
@@ -15,53 +16,25 @@ void Options::check() const {
   require(finite_in(smooth_bilaplacian, 0, 0.49), "deform options: smooth_bilaplacian = ", smooth_bilaplacian,
           " must be in [0, 0.49] (explicit bi-Laplacian steps above 0.5 diverge)");
   require(finite_in(w_silhouette, 0, 1), "deform options: w_silhouette = ", w_silhouette, " must be in [0, 1]");
-  require(finite_in(w_texture, 0, 1), "deform options: w_texture = ", w_texture, " must be in [0, 1]");
+  require(finite_in(sil_tolerance_px, 0, 100), "deform options: sil_tolerance_px = ", sil_tolerance_px,
+          " must be in [0, 100]");
+  require(finite_in(w_photo, 0, 1), "deform options: w_photo = ", w_photo, " must be in [0, 1]");
+  require(photo_start >= 0, "deform options: photo_start = ", photo_start, " must be >= 0");
+  require(photo_window >= 3 && photo_window <= 31 && photo_window % 2 == 1, "deform options: photo_window = ",
+          photo_window, " must be odd, in [3, 31]");
+  require(photo_partners >= 1 && photo_partners <= 32, "deform options: photo_partners = ", photo_partners,
+          " must be in [1, 32]");
+  require(finite_in(photo_baseline_min_deg, 0, 89) && finite_in(photo_baseline_max_deg, photo_baseline_min_deg, 90),
+          "deform options: photo baselines ", photo_baseline_min_deg, "..", photo_baseline_max_deg,
+          " degrees must satisfy 0 <= min <= max <= 90");
+  require(photo_coarsest_level >= 0 && photo_coarsest_level <= 6, "deform options: photo_coarsest_level = ",
+          photo_coarsest_level, " must lie in [0, 6]");
+  require(photo_level_iterations >= 1 && photo_level_iterations <= 100, "deform options: photo_level_iterations = ",
+          photo_level_iterations, " must lie in [1, 100]");
   require(finite_in(rim_cos, 0, 1), "deform options: rim_cos = ", rim_cos, " must be in [0, 1]");
   require(finite_in(sil_band_px, 0, 100), "deform options: sil_band_px = ", sil_band_px, " must be in [0, 100]");
   require(finite_in(sil_max_px, 0, 1000), "deform options: sil_max_px = ", sil_max_px, " must be in [0, 1000]");
   require(finite_in(visibility_tol_px, 0, 1e6), "deform options: visibility_tol_px = ", visibility_tol_px, " must be >= 0");
-  require(finite_in(texture_step_px, 1e-3, 100), "deform options: texture_step_px = ", texture_step_px,
-          " must be in [0.001, 100]");
-  require(finite_in(texture_coarse_px, texture_step_px, 100), "deform options: texture_coarse_px = ", texture_coarse_px,
-          " must be in [texture_step_px, 100]");
-  require(finite_in(texture_range_px, texture_coarse_px, 100), "deform options: texture_range_px = ", texture_range_px,
-          " must be in [texture_coarse_px, 100]");
-  require(finite_in(texture_far_px, texture_range_px, 100), "deform options: texture_far_px = ", texture_far_px,
-          " must be in [texture_range_px = ", texture_range_px, ", 100]");
-  require(finite_in(texture_far_min_score, -1, 1), "deform options: texture_far_min_score = ", texture_far_min_score,
-          " must be in [-1, 1]");
-  require(finite_in(texture_far_min_contrast, 0, 2), "deform options: texture_far_min_contrast = ",
-          texture_far_min_contrast, " must be in [0, 2]");
-  require(texture_far_px / texture_coarse_px <= 200, "deform options: texture_far_px / texture_coarse_px = ",
-          texture_far_px / texture_coarse_px, " offsets per side; at most 200");
-  require(texture_range_px / texture_coarse_px <= 200, "deform options: texture_range_px / texture_coarse_px = ",
-          texture_range_px / texture_coarse_px, " offsets per side; at most 200");
-  require(finite_in(texture_min_score, -1, 1), "deform options: texture_min_score = ", texture_min_score, " must be in [-1, 1]");
-  require(finite_in(texture_min_contrast, 0, 2), "deform options: texture_min_contrast = ", texture_min_contrast,
-          " must be in [0, 2]");
-  require(finite_in(texture_cone_deg, 1, 89), "deform options: texture_cone_deg = ", texture_cone_deg,
-          " must be in [1, 89] degrees");
-  require(texture_mu >= 3 && texture_mu <= 31 && texture_mu % 2 == 1, "deform options: texture_mu = ", texture_mu,
-          " must be odd, in [3, 31]");
-  require(texture_partners >= 1 && texture_partners <= 32, "deform options: texture_partners = ", texture_partners,
-          " must be in [1, 32]");
-  require(texture_min_partners >= 1 && texture_min_partners <= texture_partners,
-          "deform options: texture_min_partners = ", texture_min_partners, " must be in [1, texture_partners = ",
-          texture_partners, "]");
-  require(finite_in(texture_baseline_min_deg, 0, 89) && finite_in(texture_baseline_max_deg, texture_baseline_min_deg, 90),
-          "deform options: texture baselines ", texture_baseline_min_deg, "..", texture_baseline_max_deg,
-          " degrees must satisfy 0 <= min <= max <= 90");
-  require(finite_in(texture_settle_px, 0, 100), "deform options: texture_settle_px = ", texture_settle_px,
-          " must be in [0, 100]");
-  require(texture_recheck >= 1 && texture_recheck <= 1000, "deform options: texture_recheck = ", texture_recheck,
-          " must be in [1, 1000]");
-  require(texture_sag_rounds >= 0 && texture_sag_rounds <= 100, "deform options: texture_sag_rounds = ",
-          texture_sag_rounds, " must be in [0, 100]");
-  require(finite_in(texture_ring_weight, 0, 1), "deform options: texture_ring_weight = ", texture_ring_weight,
-          " must be in [0, 1]");
-  require(texture_start >= 0, "deform options: texture_start = ", texture_start, " must be >= 0");
-  require(texture_pyramid >= 0 && texture_pyramid <= 4, "deform options: texture_pyramid = ", texture_pyramid,
-          " must lie in [0, 4]");
   require(finite_in(max_move_px, 1e-6, 100), "deform options: max_move_px = ", max_move_px, " must be in (0, 100]");
   require(finite_in(min_edge_px, 0, 1e6) && finite_in(max_edge_px, 0, 1e6) && max_edge_px > 2 * min_edge_px,
           "deform options: max_edge_px = ", max_edge_px, " must exceed 2 * min_edge_px = ", 2 * min_edge_px,
@@ -84,28 +57,15 @@ Options Options::from_params(const Params& p) {
   o.sil_band_px = p.d("deform.sil_band_px");
   o.sil_max_px = p.d("deform.sil_max_px");
   o.visibility_tol_px = p.d("deform.visibility_tol_px");
-  o.w_texture = p.d("deform.w_texture");
-  o.texture_range_px = p.d("deform.texture_range_px");
-  o.texture_step_px = p.d("deform.texture_step_px");
-  o.texture_far_px = p.d("deform.texture_far_px");
-  o.texture_far_min_score = p.d("deform.texture_far_min_score");
-  o.texture_far_min_contrast = p.d("deform.texture_far_min_contrast");
-  o.texture_coarse_px = p.d("deform.texture_coarse_px");
-  o.texture_min_score = p.d("deform.texture_min_score");
-  o.texture_min_contrast = p.d("deform.texture_min_contrast");
-  o.texture_cone_deg = p.d("deform.texture_cone_deg");
-  o.texture_mu = p.i("deform.texture_mu");
-  o.texture_partners = p.i("deform.texture_partners");
-  o.texture_min_partners = p.i("deform.texture_min_partners");
-  o.texture_baseline_min_deg = p.d("deform.texture_baseline_min_deg");
-  o.texture_baseline_max_deg = p.d("deform.texture_baseline_max_deg");
-  o.texture_settle_px = p.d("deform.texture_settle_px");
-  o.texture_recheck = p.i("deform.texture_recheck");
-  o.texture_start = p.i("deform.texture_start");
-  o.texture_pyramid = p.i("deform.texture_pyramid");
-  o.texture_ring_weight = p.d("deform.texture_ring_weight");
-  o.texture_sag_rounds = p.i("deform.texture_sag_rounds");
-  o.occlusion = p.b("deform.occlusion");
+  o.sil_tolerance_px = p.d("deform.sil_tolerance_px");
+  o.w_photo = p.d("deform.w_photo");
+  o.photo_start = p.i("deform.photo_start");
+  o.photo_window = p.i("deform.photo_window");
+  o.photo_partners = p.i("deform.photo_partners");
+  o.photo_baseline_min_deg = p.d("deform.photo_baseline_min_deg");
+  o.photo_baseline_max_deg = p.d("deform.photo_baseline_max_deg");
+  o.photo_coarsest_level = p.i("deform.photo_coarsest_level");
+  o.photo_level_iterations = p.i("deform.photo_level_iterations");
   o.max_move_px = p.d("deform.max_move_px");
   o.max_edge_px = p.d("deform.max_edge_px");
   o.min_edge_px = p.d("deform.min_edge_px");
@@ -116,13 +76,9 @@ Options Options::from_params(const Params& p) {
   return o;
 }
 
-int Options::texture_level(int it) const {
-  const int n = iterations - texture_start;  // texture iterations
-  const int k = it - texture_start;
-  if (texture_pyramid <= 0 || n <= 1 || k < 0) return 0;
-  const int coarse = n / 3;  // iterations on levels texture_pyramid .. 1
-  if (k >= coarse) return 0;
-  return texture_pyramid - (k * texture_pyramid) / coarse;
+int Options::photo_level(int it) const {
+  if (it < photo_start) return -1;
+  return std::max(0, photo_coarsest_level - (it - photo_start) / photo_level_iterations);
 }
 
 }  // namespace tetmvs::deform

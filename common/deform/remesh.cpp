@@ -51,8 +51,6 @@ struct CollapseBatch {
                 double fp) {
     m.V[a] = p;
     m.fp[a] = fp;
-    if (!m.settled.empty()) m.settled[a] = 0;
-    if (!m.drift.empty()) m.drift[a] = 0.f;
     remap[b] = a;
     face_dead[f1] = face_dead[f2] = 1;
     for (int end : {a, b}) {
@@ -88,8 +86,6 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
       mid[e] = static_cast<int>(m.V.size());
       m.V.push_back(0.5 * (m.V[a] + m.V[b]));
       m.fp.push_back(0.5 * (m.fp[a] + m.fp[b]));
-      if (!m.settled.empty()) m.settled.push_back(0);
-      if (!m.drift.empty()) m.drift.push_back(0.f);
       ++count;
     }
   if (count == 0) return 0;
@@ -143,24 +139,17 @@ void compact(RemeshMesh& m) {
     for (int k = 0; k < 3; ++k) id[t[k]] = 0;
   std::vector<Eigen::Vector3d> V;
   std::vector<double> fp;
-  std::vector<std::uint8_t> settled;
-  const bool has_settled = !m.settled.empty(), has_drift = !m.drift.empty();
-  std::vector<float> drift;
   for (size_t v = 0; v < m.V.size(); ++v)
     if (id[v] == 0) {
       id[v] = static_cast<int>(V.size());
       V.push_back(m.V[v]);
       fp.push_back(m.fp[v]);
-      if (has_settled) settled.push_back(m.settled[v]);
-      if (has_drift) drift.push_back(m.drift[v]);
     }
   for (auto& t : F)
     for (int k = 0; k < 3; ++k) t[k] = id[t[k]];
   m.V.swap(V);
   m.F.swap(F);
   m.fp.swap(fp);
-  m.settled.swap(settled);
-  m.drift.swap(drift);
 }
 
 std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ratio, double max_px) {

@@ -17,13 +17,6 @@ struct RemeshMesh {
   std::vector<Eigen::Vector3d> V;
   std::vector<Eigen::Vector3i> F;
   std::vector<double> fp;  // per-vertex pixel footprint (world units per pixel), > 0
-  // Optional per-vertex flag (empty: none) carried through the operations: new vertices
-  // (splits) and merged ones (collapses) get 0. deform marks vertices whose texture
-  // force has settled.
-  std::vector<std::uint8_t> settled;
-  // Optional per-vertex value (empty: none) carried the same way; new and merged vertices
-  // get 0. deform accumulates each vertex's moves (pixels) since its last texture probe.
-  std::vector<float> drift;
 };
 
 // Length of edge (a, b) in pixels.

@@ -280,7 +280,6 @@ std::string fmt17(double v) {
 }  // namespace
 
 void write_text_model(const fs::path& dir, const Model& m) {
-  fs::create_directories(dir);
   std::ostringstream c;
   c << "# Camera list with one line of data per camera:\n#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
     << "# Number of cameras: " << m.cameras.size() << "\n";
@@ -455,7 +454,6 @@ Model read_binary_model(const fs::path& dir) {
 }
 
 void write_binary_model(const fs::path& dir, const Model& m) {
-  fs::create_directories(dir);
   std::string c;
   put<std::uint64_t>(c, m.cameras.size());
   for (const auto& [id, cam] : m.cameras) {
@@ -724,6 +722,12 @@ Scene read_scene(const Layout& l, const Params& p) {
   s.sil.resize(n);
   const fs::path sildir = l.root / "silhouettes";
   const bool sils = fs::is_directory(sildir);
+  {
+    std::vector<fs::path> files;
+    for (const Image* im : ims) files.push_back(l.image_dir / im->name);
+    check_images_budget(p, files);
+  }
+  std::vector<char> no_mask(n, 0);
   std::vector<std::string> errors(n);
 #pragma omp parallel for schedule(dynamic)
   for (int v = 0; v < n; ++v) {
@@ -746,6 +750,8 @@ Scene read_scene(const Layout& l, const Params& p) {
           if (mask.size() != rgb.size())
             fail(mf.string(), ": mask is ", mask.cols, "x", mask.rows, " but its image is ", rgb.cols, "x", rgb.rows);
           s.sil[v] = undistort(mask, ph, /*nearest=*/true);
+        } else {
+          no_mask[v] = 1;
         }
       }
     } catch (const Error& e) {
@@ -756,6 +762,12 @@ Scene read_scene(const Layout& l, const Params& p) {
   }
   for (const auto& e : errors)
     if (!e.empty()) throw Error(e);
+  {
+    std::vector<std::string> missing;
+    for (int v = 0; v < n; ++v)
+      if (no_mask[v]) missing.push_back(ims[v]->name);
+    warn_missing_masks(sildir, missing, n);
+  }
   for (int v = 1; v < n; ++v)
     if (s.rgb[v].size() != s.rgb[0].size())
       fail((l.image_dir / s.cams[v].name).string(), ": image is ", s.rgb[v].cols, "x", s.rgb[v].rows, " but ",
@@ -802,10 +814,7 @@ Scene read_scene(const Layout& l, const Params& p) {
       s.box_source = "sparse points";
     }
   }
-  int seeing = 0;
-  for (const auto& c : s.cams) seeing += c.depth(s.box.center()) > 0 && c.sees(s.box.center());
-  if (seeing == 0)
-    fail(imfile.string(), ": no camera sees the centre of the bounding box; check the box or the cameras");
+  vet_scene(s, imfile);
   return s;
 }
 

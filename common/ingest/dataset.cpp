@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "common/budget.h"
 #include "common/error.h"
 #include "common/fileio.h"
 #include "common/image.h"
@@ -235,6 +236,33 @@ void drop_degenerate_silhouettes(Scene& s) {
 
 }  // namespace
 
+void check_images_budget(const Params& p, const std::vector<fs::path>& images) {
+  double pixels = 0, largest = -1;
+  fs::path big;
+  ImageSize big_size;
+  for (const auto& f : images) {
+    const auto s = fs::exists(f) ? read_image_size(f) : std::nullopt;
+    if (!s) continue;
+    const double px = static_cast<double>(s->width) * static_cast<double>(s->height);
+    pixels += px;
+    if (px > largest) largest = px, big = f, big_size = *s;
+  }
+  if (largest < 0) return;
+  std::ostringstream what;
+  what << "ingest: " << images.size() << " images, the largest " << big.string() << " (" << big_size.width << " x "
+       << big_size.height << " pixels by its header)";
+  check_memory_budget(p, 9.0 * pixels, what.str(), "use smaller images or fewer views");
+}
+
+void warn_missing_masks(const fs::path& sildir, const std::vector<std::string>& missing, int views) {
+  if (missing.empty()) return;
+  std::string names;
+  for (std::size_t i = 0; i < missing.size() && i < 5; ++i) names += (i ? ", " : "") + missing[i];
+  if (missing.size() > 5) names += ", ...";
+  warn(sildir.string(), ": no mask for ", missing.size(), " of ", views, " views (", names,
+       "): they carry no silhouette");
+}
+
 Scene read_dataset(const fs::path& dir, const Params& p) {
   Scene s;
   const fs::path par = find_par_file(dir);
@@ -244,6 +272,11 @@ Scene read_dataset(const fs::path& dir, const Params& p) {
   const int n = s.size();
   s.rgb.resize(n);
   s.sil.resize(n);
+  {
+    std::vector<fs::path> files;
+    for (const auto& c : s.cams) files.push_back(dir / c.name);
+    check_images_budget(p, files);
+  }
   // images: loaded in parallel, errors collected and the first (in view order) reported
   std::vector<std::string> errors(n);
 #pragma omp parallel for schedule(dynamic)
@@ -252,6 +285,8 @@ Scene read_dataset(const fs::path& dir, const Params& p) {
       s.rgb[v] = load_rgb(dir / s.cams[v].name);
     } catch (const Error& e) {
       errors[v] = e.what();
+    } catch (const std::exception& e) {  // nothing may leave the parallel region
+      errors[v] = (dir / s.cams[v].name).string() + ": " + e.what();
     }
   }
   for (const auto& e : errors)
@@ -270,13 +305,17 @@ Scene read_dataset(const fs::path& dir, const Params& p) {
   const fs::path sildir = dir / "silhouettes";
   const auto opts = SilhouetteOptions::from(p);
   const bool given = fs::is_directory(sildir);
+  std::vector<char> no_mask(n, 0);
 #pragma omp parallel for schedule(dynamic)
   for (int v = 0; v < n; ++v) {
     if (has_list && !good.count(s.cams[v].name)) continue;
     try {
       if (given) {
         const fs::path mf = sildir / s.cams[v].name;
-        if (!fs::exists(mf)) continue;  // a view without a mask carries no silhouette
+        if (!fs::exists(mf)) {  // a view without a mask carries no silhouette
+          no_mask[v] = 1;
+          continue;
+        }
         cv::Mat m = load_mask(mf);
         if (m.size() != s.rgb[v].size())
           fail(mf.string(), ": mask is ", m.cols, "x", m.rows, " but its image is ", s.rgb[v].cols,
@@ -287,10 +326,18 @@ Scene read_dataset(const fs::path& dir, const Params& p) {
       }
     } catch (const Error& e) {
       errors[v] = e.what();
+    } catch (const std::exception& e) {
+      errors[v] = (sildir / s.cams[v].name).string() + ": " + e.what();
     }
   }
   for (const auto& e : errors)
     if (!e.empty()) throw Error(e);
+  {
+    std::vector<std::string> missing;
+    for (int v = 0; v < n; ++v)
+      if (no_mask[v]) missing.push_back(s.cams[v].name);
+    warn_missing_masks(sildir, missing, n);
+  }
   drop_degenerate_silhouettes(s);
   // bounding box
   std::string src;
@@ -307,6 +354,7 @@ Scene read_dataset(const fs::path& dir, const Params& p) {
     s.box = padded_hull_box(s, camera_search_region(s.cams), p, dir.string(), "add a bbox.txt");
     s.box_source = "visual hull";
   }
+  vet_scene(s, par);  // (before the box is projected below)
   // Automatic silhouettes: nothing outside the projected bounding box can be the object
   // (background clutter such as the temple's cloth is removed this way).
   if (!given && s.box_source != "visual hull") {
@@ -331,12 +379,11 @@ Scene read_dataset(const fs::path& dir, const Params& p) {
     }
   }
   drop_degenerate_silhouettes(s);
-  // every camera must see the box
-  int seeing = 0;
-  for (const auto& c : s.cams) seeing += c.depth(s.box.center()) > 0 && c.sees(s.box.center());
-  if (seeing == 0)
-    fail(par.string(), ": no camera sees the centre of the bounding box; check the box or the cameras");
   return s;
+}
+
+void vet_scene(const Scene& s, const fs::path& where) {
+  for (const auto& w : check_scene_geometry(s, where.string())) warn(w);
 }
 
 cv::Mat contact_sheet(const Scene& s, int thumb_width) {

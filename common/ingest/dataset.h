@@ -52,6 +52,19 @@ Eigen::AlignedBox3d padded_hull_box(const Scene& s, const Eigen::AlignedBox3d& r
 // cameras see at that depth: the search region when nothing states a box.
 Eigen::AlignedBox3d camera_search_region(const std::vector<Camera>& cams);
 
+// Refuses, before any image is decoded, images whose headers declare more pixels than the
+// memory budget holds for ingest (about 9 bytes a pixel: the RGB image, its silhouette and
+// the copies written), naming the largest.
+void check_images_budget(const Params& p, const std::vector<std::filesystem::path>& images);
+
+// A warning naming the views of a dataset with a silhouettes/ folder that have no mask
+// there (they carry no silhouette); none when every view that should have one has it.
+void warn_missing_masks(const std::filesystem::path& sildir, const std::vector<std::string>& missing, int views);
+
+// The scene's geometry as read: nonsense refused and suspicious parts warned about
+// (check_scene_geometry, common/scene.h), naming `where`. (The images are checked by ingest.)
+void vet_scene(const Scene& s, const std::filesystem::path& where);
+
 // Reads the whole folder into a Scene (images, silhouettes, box). Every failure is an
 // Error naming the file and the problem.
 Scene read_dataset(const std::filesystem::path& dir, const Params& p);

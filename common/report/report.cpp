@@ -115,6 +115,35 @@ std::string build_report(const Options& o) {
   h << "<h1>" << esc(o.title) << "</h1>\n<p>Run directory: <code>" << esc(fs::absolute(R).string()) << "</code></p>\n";
 
   const Scene scene = read_scene(R / "scene.h5", true);
+  // ---- the run log: the last entry of each stage and output
+  std::map<std::string, json> last;
+  std::vector<std::string> order;
+  if (fs::exists(R / "stages.jsonl")) {
+    std::istringstream is(read_file(R / "stages.jsonl"));
+    std::string line;
+    while (std::getline(is, line)) {
+      try {
+        const json j = json::parse(line);
+        std::string key = j.value("stage", "?");
+        const std::string args = j.value("args", "");
+        std::smatch m;
+        static const std::regex out_re(R"((--out|-o)\s+(\S+))");
+        if (std::regex_search(args, m, out_re)) key += " → " + fs::path(m[2].str()).filename().string();
+        if (!last.count(key)) order.push_back(key);
+        last[key] = j;
+      } catch (const std::exception&) {
+      }
+    }
+  }
+  // ---- warnings the stages gave (first: they say what the results below may lack)
+  {
+    std::ostringstream w;
+    for (const auto& k : order)
+      if (last[k].contains("warnings") && last[k]["warnings"].is_array())
+        for (const auto& x : last[k]["warnings"])
+          if (x.is_string()) w << "<li><b>" << esc(k) << "</b>: " << esc(x.get<std::string>()) << "</li>\n";
+    if (!w.str().empty()) h << "<h2 class=bad>Warnings</h2>\n<ul>\n" << w.str() << "</ul>\n";
+  }
   // ---- metrics
   h << "<h2>Results</h2>\n<table><tr><th>surface</th><th>faces</th><th>components</th><th>closed</th>"
     << "<th>silhouette IoU (mean)</th><th>boundary error px (mean / 95%)</th><th>accuracy 90% (mm)</th>"
@@ -168,7 +197,11 @@ std::string build_report(const Options& o) {
   for (const char* name : {"cut1", "cut2", "final"}) {
     const fs::path ev = R / ("eval_" + std::string(name) + ".json");
     if (fs::exists(ev)) {
-      json e = json::parse(read_file(ev));
+      json e = json::parse(read_file(ev), nullptr, false);
+      if (e.is_discarded()) {
+        h << "<p class=bad>" << esc(ev.string()) << ": not valid JSON</p>\n";
+        continue;
+      }
       if (e.contains("labels"))  // the cell lists are for scripts (examples/inspect_wrong_labels.py)
         for (const char* k : {"wrong_cells", "wrong_whole_cells"})
           if (e["labels"].contains(k)) e["labels"][k] = std::to_string(e["labels"][k].size()) + " cell ids";
@@ -211,25 +244,6 @@ std::string build_report(const Options& o) {
   }
   // ---- stages
   h << "<h2>Stages: time and memory</h2>\n<table><tr><th>stage</th><th>wall s</th><th>cpu s</th><th>peak MB</th><th>summary</th></tr>\n";
-  std::map<std::string, json> last;  // stage + output -> last entry
-  std::vector<std::string> order;
-  if (fs::exists(R / "stages.jsonl")) {
-    std::istringstream is(read_file(R / "stages.jsonl"));
-    std::string line;
-    while (std::getline(is, line)) {
-      try {
-        const json j = json::parse(line);
-        std::string key = j.value("stage", "?");
-        const std::string args = j.value("args", "");
-        std::smatch m;
-        static const std::regex out_re(R"((--out|-o)\s+(\S+))");
-        if (std::regex_search(args, m, out_re)) key += " → " + fs::path(m[2].str()).filename().string();
-        if (!last.count(key)) order.push_back(key);
-        last[key] = j;
-      } catch (const std::exception&) {
-      }
-    }
-  }
   double total = 0;
   for (const auto& k : order) {
     const json& j = last[k];

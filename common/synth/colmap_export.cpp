@@ -102,11 +102,7 @@ nlohmann::json export_colmap(const fs::path& dataset, const fs::path& out, const
   }
   const TriMesh gt = read_ply(dataset / "gt.ply");
   const colmap::Model m = colmap_model(cams, gt, &rgb, o.points, o.seed);
-  fs::create_directories(out / "images");
-  const auto copy = [](const fs::path& a, const fs::path& b) {
-    fs::create_directories(b.parent_path());
-    fs::copy_file(a, b, fs::copy_options::overwrite_existing);
-  };
+  const auto copy = [](const fs::path& a, const fs::path& b) { write_text_atomic(b, read_file(a)); };
   for (const Camera& c : cams) copy(dataset / c.name, out / "images" / c.name);
   if (o.silhouettes)
     for (const Camera& c : cams)

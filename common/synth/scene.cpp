@@ -278,7 +278,6 @@ std::vector<Camera> write_dataset(const std::filesystem::path& dir, const TriMes
   require(!cams.empty(), "write_dataset: no cameras");
   require(!info.prefix.empty() && info.prefix.find('/') == std::string::npos, "write_dataset: bad prefix '",
           info.prefix, "'");
-  fs::create_directories(dir / "silhouettes");
   const int n = static_cast<int>(cams.size());
   for (int i = 0; i < n; ++i) {
     char buf[32];

@@ -8,9 +8,10 @@
 
 namespace tetmvs::tet {
 
-void InspectOptions::add_to(CLI::App& app) {
-  app.add_option("--vtu", vtu, "also write the mesh for ParaView (.vtu; cell data level, colour, new_red)");
-  app.add_option("--slice-png", slice_png, "also write a PNG of the cells cut by a plane, coloured by level");
+void InspectOptions::add_to(StageCli& cli) {
+  cli.add_output("--vtu", vtu, "also write the mesh for ParaView (.vtu; cell data level, colour, new_red)");
+  cli.add_output("--slice-png", slice_png, "also write a PNG of the cells cut by a plane, coloured by level");
+  CLI::App& app = cli.app();
   app.add_option("--slice-axis", slice_axis, "normal of the slice plane: x, y or z")
       ->check(CLI::IsMember({"x", "y", "z"}));
   app.add_option("--slice-at", slice_at, "slice position as a fraction of the grid box along the axis")

@@ -1,8 +1,8 @@
 // Command-line pieces shared by the bcc-init and refine stages (inspection outputs).
 #pragma once
-#include <CLI/CLI.hpp>
 #include <string>
 
+#include "common/stage.h"
 #include "common/tetmesh/tetmesh.h"
 
 namespace tetmvs::tet {
@@ -11,7 +11,7 @@ struct InspectOptions {
   std::string vtu, slice_png, slice_axis = "z";
   double slice_at = 0.5;  // fraction of the grid box along the slice axis
   int slice_width = 1024;
-  void add_to(CLI::App& app);
+  void add_to(StageCli& cli);
   // Writes the requested .vtu and slice picture (cells coloured by level).
   void write(const TetMesh& m) const;
 };

@@ -21,12 +21,13 @@ int main(int argc, char** argv) {
   std::string scene_file, out;
   bool print_levels = false;
   tet::InspectOptions insp;
-  cli.app().add_option("--scene", scene_file, "scene.h5 (cameras and bounding box)")->required();
-  cli.app().add_option("-o,--out", out, "output mesh file (mesh_0.h5)");
+  cli.add_input("--scene", scene_file, "scene.h5 (cameras and bounding box)")->required();
+  cli.add_output("-o,--out", out, "output mesh file (mesh_0.h5)");
   cli.app().add_flag("--print-levels", print_levels,
                      "print (stdout) how many refinement levels reach refine.target_pixels, then exit");
-  insp.add_to(cli.app());
+  insp.add_to(cli);
   return cli.run(argc, argv, [&](StageContext& ctx) {
+    require(print_levels || !out.empty(), "bcc-init: --out is required (unless --print-levels)");
     const Scene scene = read_scene(scene_file, /*images=*/false);
     const tet::Lattice lat = tet::lattice_for_box(scene.box, ctx.params.i("mesh.cells"));
     if (print_levels) {
@@ -36,7 +37,6 @@ int main(int argc, char** argv) {
       ctx.summary = "levels=" + std::to_string(L) + " for " + std::to_string(px) + " px";
       return;
     }
-    require(!out.empty(), "bcc-init: --out is required (unless --print-levels)");
     {
       // four tets per pair of face-adjacent cubes; building and writing hold about twice the mesh
       const double nx = lat.dims[0], ny = lat.dims[1], nz = lat.dims[2];

@@ -34,14 +34,15 @@ int main(int argc, char** argv) {
                "source (interior) and sink (exterior) by the labels; writes the cells' sides and "
                "the cut surface as an outward, edge-manifold PLY mesh.");
   std::string mesh_file, scores_file, labels_file, out, ply, scene_file, png;
-  cli.app().add_option("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)")->required();
-  cli.app().add_option("--scores", scores_file, "face scores from photoconsist --scores (scores.h5)")->required();
-  cli.app().add_option("--labels", labels_file, "hard labels (labels.h5 or silfix.h5)")->required();
-  cli.app().add_option("--out", out, "cut file (HDF5, schemas/cut.md)")->required();
-  cli.app().add_option("--ply", ply, "cut surface (binary PLY)")->required();
-  cli.app().add_option("--scene", scene_file, "scene.h5: with --png, render the surface from four views");
-  cli.app().add_option("--png", png, "PNG of the surface rendered from four views (needs --scene)");
+  cli.add_input("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)")->required();
+  cli.add_input("--scores", scores_file, "face scores from photoconsist --scores (scores.h5)")->required();
+  cli.add_input("--labels", labels_file, "hard labels (labels.h5 or silfix.h5)")->required();
+  cli.add_output("--out", out, "cut file (HDF5, schemas/cut.md)")->required();
+  cli.add_output("--ply", ply, "cut surface (binary PLY)")->required();
+  auto* scene_opt = cli.add_input("--scene", scene_file, "scene.h5: with --png, render the surface from four views");
+  cli.add_output("--png", png, "PNG of the surface rendered from four views (needs --scene)")->needs(scene_opt);
   return cli.run(argc, argv, [&](StageContext& ctx) {
+    const Scene scene = png.empty() ? Scene() : read_scene(scene_file, false);  // (checked before the work)
     {
       // the mesh, then the graph: one node per cell, two directed edges per face plus up to
       // two terminal edges per cell (visibility term); per edge: target, reverse, capacity,
@@ -115,15 +116,11 @@ int main(int argc, char** argv) {
     f.set_attr("/", "components", static_cast<std::int64_t>(chk.components.size()));
     f.set_attr("/", "closed", static_cast<std::int64_t>(chk.closed));
     f.set_attr("/", "edge_manifold", static_cast<std::int64_t>(chk.edge_manifold));
-    // the PLY is make's target: written last, so a stage killed before it leaves no PLY
-    // whose cut file is missing
     f.commit();
+    if (!png.empty()) write_png_rgb(png, render_sheet(surface, scene));
+    // the PLY is make's target: committed last, so a stage killed before it leaves no PLY
+    // whose cut file is missing
     write_ply(ply, surface, {false, "tetmvs cut: outward-oriented triangles, world frame"});
-    if (!png.empty()) {
-      require(!scene_file.empty(), "--png needs --scene");
-      const Scene scene = read_scene(scene_file, false);
-      write_png_rgb(png, render_sheet(surface, scene));
-    }
     std::ostringstream os;
     os << r.cut_faces << " faces, " << surface.nv() << " vertices, " << chk.components.size()
        << " components, " << (chk.closed ? "closed" : "OPEN") << ", "

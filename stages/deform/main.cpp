@@ -1,5 +1,5 @@
 // deform: the second cut's surface S2 refined into the final mesh H (paper section 3.3,
-// Algorithm 1 step 7): vertices moved by smoothness, silhouette and texture forces, with
+// Algorithm 1 step 7): vertices moved by smoothness, silhouette and photometric forces, with
 // red-green remeshing to edges of at most deform.max_edge_px pixels, no self-intersections.
 #include <filesystem>
 #include <sstream>
@@ -18,18 +18,17 @@ using namespace tetmvs;
 
 int main(int argc, char** argv) {
   StageCli cli("deform",
-               "Refines a closed cut surface (cut2.ply) into the final mesh: smoothness, silhouette and texture "
-               "forces, red-green remeshing, no self-intersections. Writes a binary PLY with normals and colours "
+               "Refines a closed cut surface (cut2.ply) into the final mesh: smoothness, silhouette and photometric "
+               "(multi-view NCC, coarse to fine) forces, red-green remeshing, no self-intersections. Writes a binary PLY with normals and colours "
                "and per-iteration statistics (HDF5, schemas/deform.md).");
   std::string scene_file, mesh_file, out, stats, png;
-  cli.app().add_option("--scene", scene_file, "scene.h5 (cameras, images, silhouettes)")->required();
-  cli.app().add_option("--mesh", mesh_file, "start surface: closed, edge-manifold, outward (cut2.ply)")->required();
-  cli.app().add_option("--out", out, "final mesh (binary PLY with normals and colours)")->required();
-  cli.app().add_option("--stats", stats, "statistics per iteration (HDF5, schema tetmvs.deform)")->required();
-  cli.app().add_option("--png", png, "PNG of the final mesh rendered from four views");
+  cli.add_input("--scene", scene_file, "scene.h5 (cameras, images, silhouettes)")->required();
+  cli.add_input("--mesh", mesh_file, "start surface: closed, edge-manifold, outward (cut2.ply)")->required();
+  cli.add_output("--out", out, "final mesh (binary PLY with normals and colours)")->required();
+  cli.add_output("--stats", stats, "statistics per iteration (HDF5, schema tetmvs.deform)")->required();
+  cli.add_output("--png", png, "PNG of the final mesh rendered from four views");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     const deform::Options opt = deform::Options::from_params(ctx.params);
-    const photo::Options popt = photo::Options::from_params(ctx.params);
     Scene scene = read_scene(scene_file);
     scene.load_grey();
     const TriMesh start = read_ply(mesh_file);
@@ -42,7 +41,7 @@ int main(int argc, char** argv) {
       what << "deform: " << mesh_file << " (" << start.nf() << " faces, " << scene.size() << " views)";
       check_memory_budget(ctx.params, bytes, what.str(), "raise deform.max_edge_px or start from a coarser surface");
     }
-    const deform::Result r = deform::deform_mesh(start, scene, opt, popt);
+    const deform::Result r = deform::deform_mesh(start, scene, opt);
     // the PLY is make's target: written last, so an interrupted run never leaves a final
     // mesh without its statistics and picture
     deform::write_stats(stats, r, "deform", ctx.params.values_for("deform"), {scene_file, mesh_file});

@@ -1,11 +1,11 @@
 // evaluate: Middlebury-style accuracy and completeness of a reconstruction against a
 // ground-truth mesh, per region, with mesh checks; JSON (schemas/evaluate.md) and an
 // error picture. The work lives in common/trimesh/evaluate.cpp.
+#include <omp.h>
+
 #include <filesystem>
 #include <optional>
 #include <sstream>
-
-#include <opencv2/imgcodecs.hpp>
 
 #include "common/budget.h"
 #include "common/cut/inputs.h"
@@ -40,10 +40,17 @@ std::vector<tetmvs::Camera> load_cameras(const fs::path& f, int w, int h) {
     const fs::path first = f.parent_path() / cams[0].name;
     require(fs::exists(first), f.string(), ": image size unknown (", first.string(),
             " is not there): give --size WxH");
-    const cv::Mat im = cv::imread(first.string(), cv::IMREAD_UNCHANGED);
-    require(!im.empty(), first.string(), ": cannot read the image");
-    w = im.cols;
-    h = im.rows;
+    // the size its header declares (the memory budget below covers it), else decoded
+    if (const auto d = read_image_size(first)) {
+      require(d->width > 0 && d->height > 0 && d->width <= (1 << 30) && d->height <= (1 << 30), first.string(),
+              ": the image header declares ", d->width, " x ", d->height, " pixels; give --size WxH");
+      w = static_cast<int>(d->width);
+      h = static_cast<int>(d->height);
+    } else {
+      const cv::Mat im = load_rgb(first);
+      w = im.cols;
+      h = im.rows;
+    }
   }
   for (auto& c : cams) c.width = w, c.height = h;
   return cams;
@@ -59,21 +66,22 @@ int main(int argc, char** argv) {
                "its error.");
   std::string mesh, gt, cameras, out, png, size, box, thresholds, labels, tetmesh;
   auto& app = cli.app();
-  app.add_option("--mesh", mesh, "reconstruction (PLY mesh or point cloud)")->required();
-  app.add_option("--gt", gt, "ground-truth mesh (PLY; optional per-face/vertex 'region')")->required();
-  app.add_option("--cameras", cameras, "cameras: a par file or scene.h5 (visibility of the ground truth)")->required();
-  app.add_option("--out", out, "output JSON")->required();
-  app.add_option("--png", png, "error picture (PNG)");
+  cli.add_input("--mesh", mesh, "reconstruction (PLY mesh or point cloud)")->required();
+  cli.add_input("--gt", gt, "ground-truth mesh (PLY; optional per-face/vertex 'region')")->required();
+  cli.add_input("--cameras", cameras, "cameras: a par file or scene.h5 (visibility of the ground truth)")->required();
+  cli.add_output("--out", out, "output JSON")->required();
+  cli.add_output("--png", png, "error picture (PNG)");
   app.add_option("--size", size, "image size WxH when the par file's images are not beside it");
   app.add_option("--thresholds", thresholds,
                  "extra completeness thresholds, comma separated (world units), after eval.threshold");
   app.add_option("--region-box", box, "also report the region inside 'minx miny minz maxx maxy maxz'");
-  app.add_option("--labels", labels,
+  cli.add_input("--labels", labels,
                  "also count the hard labels (labels.h5 or silfix.h5) that the ground truth contradicts: interior "
                  "cells outside it, exterior cells inside it (needs --tetmesh)");
-  app.add_option("--tetmesh", tetmesh, "the tetrahedral mesh the labels belong to (mesh_<L>.h5)");
+  cli.add_input("--tetmesh", tetmesh, "the tetrahedral mesh the labels belong to (mesh_<L>.h5)");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     const Params& p = ctx.params;
+    require(png.empty() || p.i("eval.png_views") > 0, "--png needs eval.png_views > 0");
     int w = 0, h = 0;
     if (!size.empty()) {
       char x = 0;
@@ -129,13 +137,17 @@ int main(int argc, char** argv) {
     const std::vector<Camera> cams = load_cameras(cameras, w, h);
     {
       // surface samples (area / spacing^2 each): position, normal, face, distances, and for
-      // the ground truth's one visibility byte per camera; plus one depth raster per thread
+      // the ground truth's one visibility byte per camera; plus one depth and one triangle
+      // raster (8 bytes a pixel) per thread
       const double s2 = o.spacing * o.spacing;
       const double ng = total_area(g) / s2, nr = rec.nf() > 0 ? total_area(rec) / s2 : rec.nv();
-      const double bytes = ng * (kEvalBytesPerSample + static_cast<double>(cams.size())) + nr * kEvalBytesPerSample;
+      const double raster = 8.0 * cams[0].width * static_cast<double>(cams[0].height);
+      const double bytes = ng * (kEvalBytesPerSample + static_cast<double>(cams.size())) + nr * kEvalBytesPerSample +
+                           omp_get_max_threads() * raster;
       std::ostringstream what;
-      what << "evaluate: about " << ng + nr << " surface samples at eval.sample_spacing " << o.spacing;
-      check_memory_budget(p, bytes, what.str(), "raise eval.sample_spacing");
+      what << "evaluate: about " << ng + nr << " surface samples at eval.sample_spacing " << o.spacing << ", "
+           << cams[0].width << " x " << cams[0].height << " pixel views (" << cameras << ")";
+      check_memory_budget(p, bytes, what.str(), "raise eval.sample_spacing, or give --size");
     }
     const EvalResult r = evaluate(rec, g, cams, o);
     nlohmann::json j = to_json(r);
@@ -148,9 +160,7 @@ int main(int argc, char** argv) {
     j["params"] = p.values_for("evaluate");
     write_text_atomic(out, j.dump(2) + "\n");
     if (!png.empty()) {
-      const int views = p.i("eval.png_views");
-      require(views > 0, "--png needs eval.png_views > 0");
-      write_png_rgb(png, error_picture(rec, MeshBVH(g), cams, views, p.d("eval.png_max_error")));
+      write_png_rgb(png, error_picture(rec, MeshBVH(g), cams, p.i("eval.png_views"), p.d("eval.png_max_error")));
     }
     std::ostringstream s;
     s.precision(4);

@@ -22,23 +22,26 @@ int main(int argc, char** argv) {
                "(images/ + sparse/ or sparse/0/, text or binary model) or model folder is recognised "
                "and read instead (docs/colmap.md).");
   std::string dir, out, sheet;
-  cli.app().add_option("dataset", dir, "dataset folder")->required();
-  cli.app().add_option("-o,--out", out, "output scene file (HDF5)")->required();
-  cli.app().add_option("--contact-sheet", sheet, "also write a PNG of every view with its silhouette outlined");
+  cli.add_input("dataset", dir, "dataset folder", PathKind::Folder)->required();
+  cli.add_output("-o,--out", out, "output scene file (HDF5)")->required();
+  cli.add_output("--contact-sheet", sheet, "also write a PNG of every view with its silhouette outlined");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     info("ingest: reading ", dir);
     Scene s;
     std::vector<fs::path> inputs;
     if (const auto layout = colmap::find_layout(dir)) {
       info("ingest: COLMAP model ", layout->model_dir.string(), ", images in ", layout->image_dir.string());
-      s = colmap::read_scene(*layout, ctx.params);
       const fs::path& md = layout->model_dir;
       const bool bin = fs::exists(md / "cameras.bin") && fs::exists(md / "images.bin") && fs::exists(md / "points3D.bin");
       for (const char* f : {"cameras", "images", "points3D"}) inputs.push_back(md / (std::string(f) + (bin ? ".bin" : ".txt")));
+      for (const auto& i : inputs) ctx.add_input(i, "COLMAP model file");
+      s = colmap::read_scene(*layout, ctx.params);
     } else {
-      s = read_dataset(dir, ctx.params);
       inputs = {find_par_file(dir)};
+      ctx.add_input(inputs[0], "camera file");
+      s = read_dataset(dir, ctx.params);
     }
+    for (const auto& w : check_scene_images(s, dir)) warn(w);  // refuses when all are uniform
     auto f = h5::File::create(out);
     f.write_header(kSceneSchema, kSceneVersion, "ingest", ctx.params.values_for("ingest"), inputs);
     write_scene(f, s);

@@ -84,17 +84,18 @@ int main(int argc, char** argv) {
   int level = -1;
   bool scores = false, keep_all = false;
   auto& app = cli.app();
-  app.add_option("--scene", scene_file, "scene.h5 (cameras, images, silhouettes)")->required();
-  app.add_option("--mesh", mesh_file, "mesh_i.h5 (level mode) or the final mesh (scores mode)")->required();
+  cli.add_input("--scene", scene_file, "scene.h5 (cameras, images, silhouettes)")->required();
+  cli.add_input("--mesh", mesh_file, "mesh_i.h5 (level mode) or the final mesh (scores mode)")->required();
   app.add_option("--level", level, "level i of the mesh (level mode; must match the mesh)");
-  app.add_option("--cache", cache_file, "pc_{i-1}.h5: face cache and Q of the previous levels");
-  app.add_option("-o,--out", out, "pc_i.h5 (level mode) or scores.h5 (scores mode)")->required();
+  cli.add_input("--cache", cache_file, "pc_{i-1}.h5: face cache and Q of the previous levels");
+  cli.add_output("-o,--out", out, "pc_i.h5 (level mode) or scores.h5 (scores mode)")->required();
   app.add_flag("--scores", scores, "scores mode: face scores omega of the final mesh");
-  app.add_option("--points-ply", points_ply, "also write Q (all points so far) as a PLY point cloud");
-  app.add_option("--gt", gt_file, "ground-truth mesh (synth's gt.ply): measure recall/precision of the "
+  cli.add_output("--points-ply", points_ply, "also write Q (all points so far) as a PLY point cloud");
+  cli.add_input("--gt", gt_file, "ground-truth mesh (synth's gt.ply): measure recall/precision of the "
                                   "crossing faces and the accuracy of Q, stored under /eval");
   app.add_flag("--keep-all", keep_all, "level mode: cache every tested face (for inspection and tuning)");
   return cli.run(argc, argv, [&](StageContext& ctx) {
+    require(scores || level >= 0, "photoconsist: --level is required in level mode (or give --scores)");
     const pc::Options opts = pc::Options::from_params(ctx.params);
     Scene scene = read_scene(scene_file);
     {
@@ -173,6 +174,9 @@ int main(int argc, char** argv) {
       const int last = all.last_level();
       pc::LeveledPoints q;
       q.append(all.of_level(last), last, false);
+      if (q.q.size() == 0 && !cache_file.empty())
+        warn("photoconsist: ", cache_file, " holds no photo-consistent point: Q is empty, the labels and the cut "
+             "rest on the silhouettes and the box alone");
       auto f = h5::File::create(out);
       f.write_header(pc::kScoresSchema, pc::kScoresVersion, "photoconsist", ctx.params.values_for("photoconsist"),
                      inputs);
@@ -204,7 +208,6 @@ int main(int argc, char** argv) {
       return;
     }
 
-    require(level >= 0, "photoconsist: --level is required in level mode (or give --scores)");
     require(level == mesh.level, "photoconsist: --level ", level, " but ", mesh_file, " is level ", mesh.level);
     if (level > 0 && cache_file.empty())
       warn("photoconsist: level ", level, " without --cache: every face is scored from scratch and Q holds "
@@ -239,6 +242,11 @@ int main(int argc, char** argv) {
     in.progress = !ctx.quiet;
     pc::LevelResult R = pc::run_level(in, opts);
     R.cache.pyramid = pyramid;
+    if (R.points.size() == 0)
+      warn("photoconsist: level ", level, " of ", mesh_file, ": no photo-consistent point (", R.consistent_points,
+           " of ", R.scored_points, " scored lattice points above photo.T, ", R.crossing_faces,
+           " crossing faces): no cell is refined here; without points at any level the cut rests on the "
+           "silhouettes alone (check the images' texture and exposure, or lower photo.T)");
     all.append(R.points, level, true);
 
     auto f = h5::File::create(out);

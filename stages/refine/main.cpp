@@ -29,29 +29,29 @@ int main(int argc, char** argv) {
   std::string mesh_file, active_file, out, scene_file, dataset = "/cells/active";
   bool print_levels = false, check = false;
   tet::InspectOptions insp;
-  cli.app().add_option("--mesh", mesh_file, "input mesh (mesh_i.h5)")->required();
-  cli.app().add_option("--active", active_file, "HDF5 file with the active-cell flags");
+  cli.add_input("--mesh", mesh_file, "input mesh (mesh_i.h5)")->required();
+  cli.add_input("--active", active_file, "HDF5 file with the active-cell flags");
   cli.app().add_option("--active-dataset", dataset, "dataset of the flags in --active");
-  cli.app().add_option("-o,--out", out, "output mesh (mesh_{i+1}.h5)");
-  cli.app().add_option("--scene", scene_file, "scene.h5: report the projected size of the finest cells");
+  cli.add_output("-o,--out", out, "output mesh (mesh_{i+1}.h5)");
+  cli.add_input("--scene", scene_file, "scene.h5: report the projected size of the finest cells");
   cli.app().add_flag("--print-levels", print_levels,
                      "print (stdout) the total number of levels reaching refine.target_pixels (needs --scene)");
   cli.app().add_flag("--check", check, "run the full (slow) geometric conformity check on the result");
-  insp.add_to(cli.app());
+  insp.add_to(cli);
   return cli.run(argc, argv, [&](StageContext& ctx) {
+    if (print_levels) require(!scene_file.empty(), "refine: --print-levels needs --scene");
+    else require(!active_file.empty() && !out.empty(), "refine: --active and --out are required");
     check_memory_budget(ctx.params, mesh_counts(mesh_file).read_bytes(), "refine: reading " + mesh_file,
                         "use a coarser mesh");
     const tet::TetMesh old = tet::read_mesh(mesh_file);
     Scene scene;
     if (!scene_file.empty()) scene = read_scene(scene_file, /*images=*/false);
     if (print_levels) {
-      require(!scene_file.empty(), "refine: --print-levels needs --scene");
       const int L = tet::levels_for_pixels(old.lat, scene.box, scene.cams, ctx.params.d("refine.target_pixels"));
       std::cout << L << std::endl;
       ctx.summary = "levels=" + std::to_string(L);
       return;
     }
-    require(!active_file.empty() && !out.empty(), "refine: --active and --out are required");
     const auto active = tet::read_cell_flags(active_file, dataset, old.num_cells());
     {
       // every active cell becomes at least 8; the closure only adds to that

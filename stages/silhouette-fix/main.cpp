@@ -76,19 +76,24 @@ int main(int argc, char** argv) {
                "the updated labels for the second cut, the constraints, and pictures.");
   std::string scene_file, mesh_file, scores_file, labels_file, cut_file, surface_file, out, png_dir, agree_json;
   std::vector<std::string> agreement;
-  auto& app = cli.app();
-  app.add_option("--scene", scene_file, "scene.h5 (cameras and silhouettes)")->required();
-  app.add_option("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)");
-  app.add_option("--scores", scores_file, "face scores (scores.h5, /faces/omega)");
-  app.add_option("--labels", labels_file, "hard labels of the first cut (labels.h5)");
-  app.add_option("--cut", cut_file, "the first cut (cut1.h5, /cells/inside): S1 is rebuilt from it");
-  app.add_option("--surface", surface_file, "S1 as a PLY (cut1.ply) instead of rebuilding it from --cut");
-  app.add_option("--out", out, "updated labels plus constraints (silfix.h5, schemas/silfix.md)");
-  app.add_option("--png-dir", png_dir, "folder for pictures: view_<NNN>.png per view and sheet.png");
-  app.add_option("--agreement", agreement,
-                 "only report the silhouette agreement of this surface (PLY; repeatable), e.g. cut1.ply cut2.ply");
-  app.add_option("--agreement-json", agree_json, "with --agreement: also write the numbers as JSON");
+  cli.add_input("--scene", scene_file, "scene.h5 (cameras and silhouettes)")->required();
+  cli.add_input("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)");
+  cli.add_input("--scores", scores_file, "face scores (scores.h5, /faces/omega)");
+  cli.add_input("--labels", labels_file, "hard labels of the first cut (labels.h5)");
+  cli.add_input("--cut", cut_file, "the first cut (cut1.h5, /cells/inside): S1 is rebuilt from it");
+  cli.add_input("--surface", surface_file, "S1 as a PLY (cut1.ply) instead of rebuilding it from --cut");
+  cli.add_output("--out", out, "updated labels plus constraints (silfix.h5, schemas/silfix.md)");
+  cli.add_output("--png-dir", png_dir, "folder for pictures: view_<NNN>.png per view and sheet.png", PathKind::Folder);
+  auto* agree_opt = cli.add_input(
+      "--agreement", agreement,
+      "only report the silhouette agreement of this surface (PLY; repeatable), e.g. cut1.ply cut2.ply");
+  cli.add_output("--agreement-json", agree_json, "with --agreement: also write the numbers as JSON")->needs(agree_opt);
   return cli.run(argc, argv, [&](StageContext& ctx) {
+    if (agreement.empty()) {
+      require(!mesh_file.empty() && !scores_file.empty() && !labels_file.empty() && !out.empty(),
+              "silhouette-fix needs --mesh, --scores, --labels and --out (or --agreement)");
+      require(cut_file.empty() != surface_file.empty(), "silhouette-fix needs exactly one of --cut and --surface");
+    }
     const Scene scene = read_scene(scene_file, false);
     // Without any silhouette there is nothing to fix: the labels pass through unchanged
     // (no constraints, attribute `note`), so that the second cut still has its input.
@@ -99,9 +104,6 @@ int main(int argc, char** argv) {
       return;
     }
     const char* kNote = "no view has a silhouette: silhouette-fix skipped, labels passed through unchanged";
-    require(!mesh_file.empty() && !scores_file.empty() && !labels_file.empty() && !out.empty(),
-            "silhouette-fix needs --mesh, --scores, --labels and --out (or --agreement)");
-    require(cut_file.empty() != surface_file.empty(), "silhouette-fix needs exactly one of --cut and --surface");
 
     const tet::TetMesh mesh = tet::read_mesh(mesh_file);
     const std::int64_t F = mesh.num_faces(), C = mesh.num_cells();
@@ -194,7 +196,6 @@ int main(int argc, char** argv) {
     f.commit();
 
     if (!png_dir.empty()) {
-      fs::create_directories(png_dir);
       std::vector<cv::Mat> pics;
       std::vector<std::string> caps;
       for (const auto& st : vs) {

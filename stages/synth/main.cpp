@@ -3,7 +3,13 @@
 // The work lives in common/synth/.
 #include <sstream>
 
+#include <omp.h>
+
+#include <filesystem>
+
+#include "common/budget.h"
 #include "common/error.h"
+#include "common/fileio.h"
 #include "common/stage.h"
 #include "common/synth/colmap_export.h"
 #include "common/synth/objects.h"
@@ -24,7 +30,7 @@ int main(int argc, char** argv) {
   app.add_option("--object", object, names + ", or a closed mesh .ply (placed to fill the box)")->required();
   app.add_option("--cameras", cameras, "a Middlebury par file (e.g. dinoR_par.txt: its README.txt/bbox.txt gives the "
                                        "box), ring, or hemisphere")->required();
-  app.add_option("--out", out, "output dataset folder")->required();
+  cli.add_output("--out", out, "output dataset folder", PathKind::Folder)->required();
   app.add_option("--texture", texture, "texture strength in [0,1] (synth.texture)");
   app.add_option("--noise", noise, "Gaussian noise sigma in grey levels [0,1] (synth.noise)");
   app.add_option("--seed", seed, "random seed (synth.seed)");
@@ -34,14 +40,17 @@ int main(int argc, char** argv) {
   std::string colmap_dir;
   synth::ColmapExportOptions cx;
   bool colmap_no_sil = false;
-  app.add_option("--colmap", colmap_dir, "also export the scene as a COLMAP workspace here: images/, sparse/ (cameras, "
+  cli.add_output("--colmap", colmap_dir, "also export the scene as a COLMAP workspace here: images/, sparse/ (cameras, "
                                          "images, points3D = ground-truth surface points and their projections), "
-                                         "silhouettes/, gt.ply (docs/colmap.md)");
+                                         "silhouettes/, gt.ply (docs/colmap.md)", PathKind::Folder);
   app.add_option("--colmap-points", cx.points, "surface points drawn for points3D (those seen by fewer than 2 views are dropped)")
       ->check(CLI::Range(1, 10000000));
   app.add_flag("--colmap-binary", cx.binary, "write the binary model (.bin) instead of the text one");
   app.add_flag("--colmap-no-silhouettes", colmap_no_sil, "leave silhouettes/ out of the COLMAP workspace");
   return cli.run(argc, argv, [&](StageContext& ctx) {
+    // an object or cameras given as a file is an input
+    if (std::filesystem::is_regular_file(object)) ctx.add_input(object, "--object");
+    if (std::filesystem::is_regular_file(cameras)) ctx.add_input(cameras, "--cameras");
     Params& p = ctx.params;
     if (texture >= 0) p.set("synth.texture=" + std::to_string(texture));
     if (noise >= 0) p.set("synth.noise=" + std::to_string(noise));
@@ -78,11 +87,24 @@ int main(int argc, char** argv) {
     c.camera_radius = p.d("synth.camera_radius");
     c.focal = p.d("synth.focal");
     c.box_size = p.d("synth.box_size");
+    {
+      // per rendering thread the supersampled depth and triangle rasters (8 bytes a sample)
+      // and the RGB accumulator, mask and PNG (about 24 bytes a pixel); a par file's cameras
+      // without --size keep their images' size, which their headers declare (load_rgb checks)
+      const double w = c.width ? c.width : 640, h = c.height ? c.height : 480, ss = c.supersample;
+      const double bytes = omp_get_max_threads() * w * h * (8.0 * ss * ss + 24.0);
+      std::ostringstream what;
+      what << "synth: views of " << w << " x " << h << " pixels, synth.supersample " << c.supersample;
+      check_memory_budget(p, bytes, what.str(), "use a smaller --size or synth.supersample");
+    }
     const nlohmann::json meta = synth::synthesize(c, out);
     info("synth: wrote ", meta["views"].get<int>(), " views of '", object, "' to ", out);
     std::ostringstream s;
     s << "views=" << meta["views"] << " faces=" << meta["gt"]["faces"];
     if (!colmap_dir.empty()) {
+      // the export reads the dataset folder: it is committed first (a failing export then
+      // leaves the dataset, not the workspace)
+      CommitGroup::active()->commit_all();
       cx.seed = c.seed;
       cx.silhouettes = !colmap_no_sil;
       const nlohmann::json e = synth::export_colmap(out, colmap_dir, cx);

@@ -4,6 +4,13 @@ corrupted input (wrong schema, dtype, shape, NaN) or a parameter out of range, m
 with ONE error line that names the file (or parameter) and the problem, exit non-zero,
 and leave no output file behind (not even a temporary one).
 
+For every output of every stage in the matrix, also: a path under a file, a path that is
+a folder (a file, for an output folder), a path that is one of the inputs (directly or
+through a symbolic link; the input must stay untouched); and for each stage a disk that
+fills up (a file size limit just below its largest output): the stage refuses or fails
+with one line, exits 1 (no signal, no crash) and leaves none of its outputs, also those
+it had written before the failing one.
+
 usage: test_bad_inputs.py BIN_DIR SOURCE_DIR
 """
 import os
@@ -17,6 +24,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
 import harness  # noqa: E402
+import hostile  # noqa: E402
 import tiny_run  # noqa: E402
 
 BIN, SRC = sys.argv[1], sys.argv[2]
@@ -91,13 +99,19 @@ def m_dataset(name, how):
 H5_BASIC = [m_missing, m_empty, m_truncated, m_text, m_version]
 
 
-def run_case(stage, argv, outputs, words, what):
+def run_case(stage, argv, outputs, words, what, file_limit=None):
     global cases
     cases += 1
     for o in outputs:
-        if os.path.exists(o):
+        if os.path.isdir(o):
+            shutil.rmtree(o)
+        elif os.path.exists(o):
             os.remove(o)
-    r = subprocess.run([os.path.join(BIN, stage)] + argv, capture_output=True, text=True)
+    if file_limit is None:
+        r = subprocess.run([os.path.join(BIN, stage)] + argv, capture_output=True, text=True)
+    else:
+        r = hostile.run_with_file_limit([os.path.join(BIN, stage)] + argv, file_limit)
+    expect(r.returncode in (1, 2), f"{stage} {what}: exit status {r.returncode} (1 or 2 expected: no signal, no crash)")
     msg = r.stderr.strip()
     errs = [l for l in msg.splitlines() if "error" in l]
     def has(w):
@@ -117,15 +131,65 @@ def run_case(stage, argv, outputs, words, what):
         print("   stderr:", msg[:300])
 
 
-def matrix(stage, argv_of, slots, outputs, tmp, extra_cases=()):
-    """argv_of(inputs) -> argv; slots: {slot: (valid_path, [mutations])}."""
+def output_cases(stage, argv, outputs, sizes, inputs, tmp, folders=()):
+    """The outputs' paths and the disk, for one valid call (see the top of the file)."""
+    d = tempfile.mkdtemp(dir=tmp)
+    a_file = os.path.join(d, "a_file")
+    open(a_file, "w").write("x")
+    src = next((p for p in inputs if os.path.isfile(p)), None)
+    for o in outputs:
+        i = argv.index(o)
+        opt = argv[i - 1]
+        def with_out(path):
+            return argv[:i] + [path] + argv[i + 1:]
+        ext = os.path.splitext(o)[1]
+        run_case(stage, with_out(os.path.join(a_file, "x" + ext)), outputs, [opt, "a_file", "not a folder"],
+                 f"{opt} under a file")
+        if o in folders:
+            run_case(stage, with_out(a_file), outputs, [opt, "a_file", "not a folder"], f"{opt} is a file")
+            continue
+        run_case(stage, with_out(d), outputs, [opt, "is a folder"], f"{opt} is a folder")
+        if src:
+            # the input through a copy (and a link to the copy): the stage must refuse before any work
+            copy = os.path.join(d, "in_copy" + os.path.splitext(src)[1])
+            shutil.copy(src, copy)
+            link = os.path.join(d, "link" + ext)
+            os.symlink(copy, link)
+            before = open(copy, "rb").read()
+            j = argv.index(src)
+            for target, how in [(copy, "the input"), (link, "a link to the input")]:
+                bad = with_out(target)
+                bad[j] = copy
+                run_case(stage, bad, [p for p in outputs if p != o], [opt, "is also the input"], f"{opt} is {how}")
+                expect(open(copy, "rb").read() == before, f"{stage} {opt} is {how}: the input changed")
+            os.remove(link)
+            os.remove(copy)
+    # the disk fills up while the largest output is written: every output goes, also those
+    # written before it
+    if sizes:
+        big = max(sizes, key=sizes.get)
+        if sizes[big] > 1:
+            run_case(stage, argv, outputs, [tuple(os.path.basename(p) for p in outputs), "disk full"],
+                     f"disk full writing {os.path.basename(big)}", file_limit=sizes[big] - 1)
+
+
+def matrix(stage, argv_of, slots, outputs, tmp, extra_cases=(), folders=()):
+    """argv_of(inputs) -> argv; slots: {slot: (valid_path, [mutations])}; folders: the
+    outputs that are folders (their files count as outputs too)."""
     valid = {k: v[0] for k, v in slots.items()}
     # the valid call must succeed (otherwise the matrix proves nothing)
     r = subprocess.run([os.path.join(BIN, stage)] + argv_of(valid) + ["-q"], capture_output=True, text=True)
     expect(r.returncode == 0, f"{stage}: the valid baseline fails: {r.stderr.strip()}")
+    sizes = {o: os.path.getsize(o) for o in outputs if os.path.isfile(o)}
+    for f in folders:
+        for p in os.listdir(f) if os.path.isdir(f) else []:
+            sizes[os.path.join(f, p)] = os.path.getsize(os.path.join(f, p))
     for o in outputs:
-        if os.path.exists(o):
+        if os.path.isdir(o):
+            shutil.rmtree(o)
+        elif os.path.exists(o):
             os.remove(o)
+    output_cases(stage, argv_of(valid), outputs, sizes, list(valid.values()), tmp, folders)
     for slot, (path, muts) in slots.items():
         for mut in muts:
             d = tempfile.mkdtemp(dir=tmp)
@@ -143,9 +207,15 @@ def budget_cases(run, tmp, out_dir, have):
     scene, mesh0 = os.path.join(run, "scene.h5"), os.path.join(run, "mesh_0.h5")
     tiny = ["--set", "resource.memory_gb=0.001"]  # 1 MiB
     words = ["memory budget", "1.02 MiB", "resource.memory_gb"]
+    # stages that read the scene first: a budget its images and masks fit in (a dataset
+    # larger than the whole budget is refused as it is read, naming the dataset)
+    small = ["--set", "resource.memory_gb=0.005"]  # 5 MiB
+    small_words = ["memory budget", "5.12 MiB", "resource.memory_gb"]
     out = os.path.join(out_dir, "mesh_0.h5")
-    run_case("bcc-init", ["--scene", scene, "--out", out] + tiny, [out], words + ["bcc-init", "mesh.cells"],
-             "budget: 1 MiB")
+    run_case("bcc-init", ["--scene", scene, "--out", out] + small, [out], small_words + ["bcc-init", "mesh.cells"],
+             "budget: 5 MiB")
+    run_case("bcc-init", ["--scene", scene, "--out", out] + tiny, [out], words + ["scene.h5", "/silhouettes/mask"],
+             "budget: 1 MiB, smaller than the scene's masks")
     act = os.path.join(tmp, "budget_active.h5")
     with h5py.File(mesh0) as f:
         nc = f["cells"].shape[0]
@@ -187,8 +257,8 @@ def budget_cases(run, tmp, out_dir, have):
         run_case("cut", ["--mesh", meshL, "--scores", scores, "--labels", labels, "--out", out, "--ply", ply] + tiny,
                  [out, ply], words + ["cut", "edges"], "budget: 1 MiB")
         out = os.path.join(out_dir, "labels.h5")
-        run_case("label", ["--scene", scene, "--mesh", meshL, "--scores", scores, "--out", out] + tiny,
-                 [out], words + ["label", "cells"], "budget: 1 MiB")
+        run_case("label", ["--scene", scene, "--mesh", meshL, "--scores", scores, "--out", out] + small,
+                 [out], small_words + ["label", "cells"], "budget: 5 MiB")
         # evaluate --labels: needs its mesh, and a closed ground truth
         out = os.path.join(out_dir, "eval_labels.json")
         run_case("evaluate", ["--mesh", gt, "--gt", gt, "--cameras", scene, "--out", out, "--labels", labels],
@@ -201,12 +271,12 @@ def budget_cases(run, tmp, out_dir, have):
         run_case("evaluate", ["--mesh", gt, "--gt", open_gt, "--cameras", scene, "--out", out, "--labels", labels,
                               "--tetmesh", meshL], [out], ["open.ply", "closed"], "labels against an open ground truth")
         out = os.path.join(out_dir, "scores.h5")
-        run_case("photoconsist", ["--scene", scene, "--mesh", meshL, "--scores", "--out", out] + tiny,
-                 [out], words + ["photoconsist", "faces", "LEVELS"], "budget: 1 MiB")
+        run_case("photoconsist", ["--scene", scene, "--mesh", meshL, "--scores", "--out", out] + small,
+                 [out], small_words + ["photoconsist", "faces", "LEVELS"], "budget: 5 MiB")
         if "deform" in have and os.path.exists(os.path.join(full, "cut1.ply")):
             out, st = os.path.join(out_dir, "final.ply"), os.path.join(out_dir, "deform.h5")
             run_case("deform", ["--scene", scene, "--mesh", os.path.join(full, "cut1.ply"), "--out", out,
-                                "--stats", st] + tiny, [out, st], words + ["deform", "faces"], "budget: 1 MiB")
+                                "--stats", st] + small, [out, st], small_words + ["deform", "faces"], "budget: 5 MiB")
 
 
 # ---- COLMAP workspaces (tests/e2e/test_colmap.py has the working ones) ----
@@ -295,15 +365,17 @@ def main():
     scene, mesh0 = os.path.join(run, "scene.h5"), os.path.join(run, "mesh_0.h5")
     try:
         # bcc-init: scene.h5
-        out = os.path.join(out_dir, "mesh_0.h5")
-        matrix("bcc-init", lambda i: ["--scene", i["scene"], "--out", out],
+        out, pic = os.path.join(out_dir, "mesh_0.h5"), os.path.join(out_dir, "mesh_0_slice.png")
+        matrix("bcc-init", lambda i: ["--scene", i["scene"], "--out", out, "--slice-png", pic],
                {"scene": (scene, H5_BASIC + [m_schema(mesh0), m_dataset("/cameras/t", "nan"),
                                              m_dataset("/cameras/K", "shape"), m_dataset("/box/min", "missing"),
                                              m_dataset("/cameras/size", "dtype")])},
-               [out], tmp,
+               [out, pic], tmp,
                [(["--set", "mesh.cells=0"], ["mesh.cells", "minimum"], "param below range"),
                 (["--set", "mesh.nope=1"], ["unknown parameter"], "unknown param"),
-                (["--set", "mesh.cells=abc"], ["mesh.cells"], "param not a number")])
+                (["--set", "mesh.cells=abc"], ["mesh.cells"], "param not a number"),
+                (["--threads", "100000"], ["--threads", "100000"], "threads out of range"),
+                (["--no-such-option"], ["--no-such-option"], "unknown option")])
         # refine: mesh + active flags
         act = os.path.join(tmp, "active.h5")
         with h5py.File(mesh0) as f:
@@ -312,17 +384,25 @@ def main():
             a = np.zeros(nc, np.uint8)
             a[: nc // 10] = 1
             f["cells/active"] = a
-        out = os.path.join(out_dir, "mesh_1.h5")
-        matrix("refine", lambda i: ["--mesh", i["mesh"], "--active", i["active"], "--out", out],
+        out, pic = os.path.join(out_dir, "mesh_1.h5"), os.path.join(out_dir, "mesh_1_slice.png")
+        matrix("refine", lambda i: ["--mesh", i["mesh"], "--active", i["active"], "--out", out, "--slice-png", pic],
                {"mesh": (mesh0, H5_BASIC + [m_schema(scene), m_dataset("/cells", "shape"),
                                             m_dataset("/vertices", "nan"), m_dataset("/cells", "dtype")]),
                 "active": (act, [m_missing, m_truncated, m_dataset("/cells/active", "shape"),
                                  m_dataset("/cells/active", "dtype")])},
-               [out], tmp)
+               [out, pic], tmp)
+        # photoconsist, level 0
+        out, pts = os.path.join(out_dir, "pc_0.h5"), os.path.join(out_dir, "points.ply")
+        matrix("photoconsist", lambda i: ["--scene", i["scene"], "--mesh", i["mesh"], "--level", "0", "--out", out,
+                                          "--points-ply", pts],
+               {"scene": (scene, [m_missing, m_truncated, m_schema(mesh0)]),
+                "mesh": (mesh0, [m_missing, m_text, m_schema(scene)])},
+               [out, pts], tmp,
+               [(["--set", "photo.T=2"], ["photo.T", "maximum"], "T above range")])
         # ingest: parameters out of range (the dataset matrix is in test_ingest.py)
         data = os.path.join(tiny_run.paths(BIN)["synth_dir"], tiny_run.SCENE)
-        out = os.path.join(out_dir, "scene.h5")
-        matrix("ingest", lambda i: [i["dir"], "-o", out], {"dir": (data, [])}, [out], tmp,
+        out, sheet = os.path.join(out_dir, "scene.h5"), os.path.join(out_dir, "contact.png")
+        matrix("ingest", lambda i: [i["dir"], "-o", out, "--contact-sheet", sheet], {"dir": (data, [])}, [out, sheet], tmp,
                [(["--set", "ingest.sil_threshold=1.5"], ["ingest.sil_threshold", "maximum"], "threshold above range"),
                 (["--set", "ingest.sil_dilate=-1"], ["ingest.sil_dilate", "minimum"], "dilate below range"),
                 (["--params", os.path.join(tmp, "nope.json")], ["nope.json"], "missing params file")])
@@ -330,36 +410,64 @@ def main():
         colmap_cases(out_dir, tmp)
         # evaluate: PLY inputs
         gt = os.path.join(data, "gt.ply")
-        out = os.path.join(out_dir, "eval.json")
-        matrix("evaluate", lambda i: ["--mesh", i["mesh"], "--gt", i["gt"], "--cameras", scene, "--out", out],
+        out, pic = os.path.join(out_dir, "eval.json"), os.path.join(out_dir, "eval.png")
+        matrix("evaluate", lambda i: ["--mesh", i["mesh"], "--gt", i["gt"], "--cameras", scene, "--out", out,
+                                      "--png", pic],
                {"mesh": (gt, [m_missing, m_empty, m_truncated, m_text]), "gt": (gt, [m_missing, m_text])},
-               [out], tmp)
+               [out, pic], tmp)
+        # synth: its dataset folder
+        out = os.path.join(out_dir, "synth_ds")
+        matrix("synth", lambda i: ["--object", "sphere", "--cameras", "ring", "--views", "3", "--size", "32x24",
+                                   "--out", out],
+               {}, [out], tmp, [(["--box", "1 2"], ["--box", "six numbers"], "box malformed")], folders=[out])
         # later stages join the matrix as they exist (cut, label: scores.h5 / labels.h5)
         if {"photoconsist", "label", "cut"} <= have:
             full = tiny_run.build(BIN, SRC, "cut1")
             L = max(int(p[5:-3]) for p in os.listdir(full) if p.startswith("mesh_") and p.endswith(".h5"))
             meshL = os.path.join(full, f"mesh_{L}.h5")
             scores, labels = os.path.join(full, "scores.h5"), os.path.join(full, "labels.h5")
-            out = os.path.join(out_dir, "cut.h5")
-            ply = os.path.join(out_dir, "cut.ply")
+            out, ply, pic = os.path.join(out_dir, "cut.h5"), os.path.join(out_dir, "cut.ply"), os.path.join(out_dir, "cut.png")
             matrix("cut", lambda i: ["--mesh", i["mesh"], "--scores", i["scores"], "--labels", i["labels"],
-                                     "--out", out, "--ply", ply],
+                                     "--out", out, "--ply", ply, "--scene", scene, "--png", pic],
                    {"mesh": (meshL, [m_missing, m_truncated, m_schema(scene)]),
                     "scores": (scores, H5_BASIC + [m_schema(labels), m_dataset("/faces/omega", "nan"),
                                                    m_dataset("/faces/omega", "shape")]),
                     "labels": (labels, H5_BASIC + [m_schema(scores), m_dataset("/cells/label", "dtype"),
                                                    m_dataset("/cells/label", "shape")])},
-                   [out, ply], tmp,
+                   [out, ply, pic], tmp,
                    [(["--set", "cut.sigma=0"], ["cut.sigma", "minimum"], "sigma out of range"),
                     (["--set", "cut.lambda=-1"], ["cut.lambda", "minimum"], "lambda out of range")])
-            out = os.path.join(out_dir, "labels.h5")
-            matrix("label", lambda i: ["--scene", i["scene"], "--mesh", i["mesh"], "--scores", i["scores"], "--out", out],
+            # an option that needs another: refused before any work
+            run_case("cut", ["--mesh", meshL, "--scores", scores, "--labels", labels, "--out", out, "--ply", ply,
+                             "--png", pic], [out, ply, pic], ["--png", "--scene"], "--png without --scene")
+            out, pic = os.path.join(out_dir, "labels.h5"), os.path.join(out_dir, "labels.png")
+            matrix("label", lambda i: ["--scene", i["scene"], "--mesh", i["mesh"], "--scores", i["scores"], "--out", out,
+                                       "--slice-png", pic],
                    {"scene": (scene, [m_missing, m_truncated, m_schema(scores)]),
                     "mesh": (meshL, [m_missing, m_schema(scene)]),
                     "scores": (scores, H5_BASIC + [m_dataset("/points/position", "nan"),
                                                    m_dataset("/points/cams", "dtype")])},
-                   [out], tmp,
-                   [(["--set", "label.low_percentile=101"], ["label.low_percentile", "maximum"], "percentile out of range")])
+                   [out, pic], tmp,
+                   [(["--set", "label.low_percentile=101"], ["label.low_percentile", "maximum"], "percentile out of range"),
+                    (["--set", "label.low_percentile=80"], ["label.low_percentile", "label.high_percentile"],
+                     "percentiles crossed")])
+            if "silhouette-fix" in have:
+                out, pics = os.path.join(out_dir, "silfix.h5"), os.path.join(out_dir, "silfix_pics")
+                cut1 = os.path.join(full, "cut1.h5")
+                matrix("silhouette-fix", lambda i: ["--scene", scene, "--mesh", meshL, "--scores", scores, "--labels",
+                                                    labels, "--cut", i["cut"], "--out", out, "--png-dir", pics],
+                       {"cut": (cut1, [m_missing, m_truncated, m_schema(labels)])},
+                       [out, pics], tmp, [(["--surface", os.path.join(full, "cut1.ply")], ["--cut", "--surface"],
+                                           "both --cut and --surface")], folders=[pics])
+            if "deform" in have:
+                out, st, pic = (os.path.join(out_dir, p) for p in ("final.ply", "deform.h5", "final.png"))
+                matrix("deform", lambda i: ["--scene", scene, "--mesh", i["mesh"], "--out", out, "--stats", st,
+                                            "--png", pic],
+                       {"mesh": (os.path.join(full, "cut1.ply"), [m_missing, m_empty, m_text])},
+                       [out, st, pic], tmp)
+            if "report" in have:
+                out = os.path.join(out_dir, "report.html")
+                matrix("report", lambda i: [i["run"], "--out", out], {"run": (full, [])}, [out], tmp)
         budget_cases(run, tmp, out_dir, have)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "common/deform/forces.h"
 #include "common/deform/intersect.h"
@@ -220,22 +221,6 @@ TEST(DeformIntersect, CleanMeshesHaveNoneAndAPushedVertexMakesSome) {
   EXPECT_TRUE(self_intersections(s.V, s.F, none).empty());
 }
 
-TEST(DeformRemesh, SettledFlagsFollowTheVertices) {
-  RemeshMesh m = from_trimesh(synth::make_sphere(0.5), 0.1);
-  m.settled.assign(m.V.size(), 1);
-  const size_t nv0 = m.V.size();
-  const std::int64_t splits = split_long_edges(m, 2.0);
-  ASSERT_GT(splits, 0);
-  ASSERT_EQ(m.settled.size(), m.V.size());
-  for (size_t v = 0; v < m.V.size(); ++v) EXPECT_EQ(m.settled[v], v < nv0 ? 1 : 0) << v;
-  collapse_short_edges(m, 1.5, 0.2, 4.0);
-  ASSERT_EQ(m.settled.size(), m.V.size());
-  int zeros = 0;
-  for (auto x : m.settled) zeros += x == 0;
-  EXPECT_GT(zeros, 0);
-  EXPECT_LT(zeros, static_cast<int>(m.V.size()));
-}
-
 TEST(DeformSilhouette, SignedDistanceIsZeroOnTheBoundary) {
   cv::Mat m = cv::Mat::zeros(40, 40, CV_8U);
   m(cv::Rect(10, 10, 20, 20)).setTo(255);  // object pixels 10..29
@@ -271,65 +256,56 @@ TEST(DeformSmooth, BilaplacianDoesNotShrinkASphereButUmbrellaDoes) {
 
 TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   const Options o = Options::from_params(Params::defaults());
+  // params/defaults.json and options.h agree
   EXPECT_EQ(o.iterations, Options{}.iterations);
   EXPECT_DOUBLE_EQ(o.max_edge_px, Options{}.max_edge_px);
-  EXPECT_DOUBLE_EQ(o.min_edge_px, Options{}.min_edge_px);  // params/defaults.json and options.h agree
+  EXPECT_DOUBLE_EQ(o.min_edge_px, Options{}.min_edge_px);
   EXPECT_DOUBLE_EQ(o.smooth_bilaplacian, Options{}.smooth_bilaplacian);
-  EXPECT_DOUBLE_EQ(o.texture_ring_weight, Options{}.texture_ring_weight);
-  EXPECT_DOUBLE_EQ(o.texture_far_px, Options{}.texture_far_px);
-  EXPECT_DOUBLE_EQ(o.texture_far_min_score, Options{}.texture_far_min_score);
-  EXPECT_DOUBLE_EQ(o.texture_far_min_contrast, Options{}.texture_far_min_contrast);
-  EXPECT_GT(o.texture_far_px, o.texture_range_px);  // the wide search is on by default
-  EXPECT_EQ(o.texture_sag_rounds, Options{}.texture_sag_rounds);
-  Options bad = o;
-  bad.min_edge_px = 1.5;
-  EXPECT_THROW(bad.check(), Error);
-  bad = o;
-  bad.smooth_bilaplacian = 0.6;
-  EXPECT_THROW(bad.check(), Error);
-  bad = o;
-  bad.texture_step_px = 0;
-  EXPECT_THROW(bad.check(), Error);
-  bad = o;
-  bad.texture_far_px = bad.texture_range_px - 1;  // the wide search must not be narrower
-  EXPECT_THROW(bad.check(), Error);
-  bad = o;
-  bad.texture_far_min_contrast = -0.1;
-  EXPECT_THROW(bad.check(), Error);
-  bad = o;
-  bad.texture_sag_rounds = -1;
-  EXPECT_THROW(bad.check(), Error);
-  bad = o;
-  bad.texture_ring_weight = 1.5;
-  EXPECT_THROW(bad.check(), Error);
-  bad = o;
-  bad.texture_mu = 8;  // even
-  EXPECT_THROW(bad.check(), Error);
-  bad = o;
-  bad.texture_min_partners = bad.texture_partners + 1;
-  EXPECT_THROW(bad.check(), Error);
-  bad = o;
-  bad.texture_baseline_max_deg = bad.texture_baseline_min_deg - 1;
-  EXPECT_THROW(bad.check(), Error);
-  bad = o;
-  bad.texture_coarse_px = 0.5 * bad.texture_step_px;
-  EXPECT_THROW(bad.check(), Error);
-  bad = o;
-  bad.texture_recheck = 0;
-  EXPECT_THROW(bad.check(), Error);
-  EXPECT_EQ(o.texture_pyramid, Options{}.texture_pyramid);
+  EXPECT_DOUBLE_EQ(o.w_silhouette, Options{}.w_silhouette);
+  EXPECT_DOUBLE_EQ(o.sil_tolerance_px, Options{}.sil_tolerance_px);
+  EXPECT_DOUBLE_EQ(o.w_photo, Options{}.w_photo);
+  EXPECT_EQ(o.photo_start, Options{}.photo_start);
+  EXPECT_EQ(o.photo_window, Options{}.photo_window);
+  EXPECT_EQ(o.photo_partners, Options{}.photo_partners);
+  EXPECT_DOUBLE_EQ(o.photo_baseline_min_deg, Options{}.photo_baseline_min_deg);
+  EXPECT_DOUBLE_EQ(o.photo_baseline_max_deg, Options{}.photo_baseline_max_deg);
+  EXPECT_EQ(o.photo_coarsest_level, Options{}.photo_coarsest_level);
+  EXPECT_EQ(o.photo_level_iterations, Options{}.photo_level_iterations);
+  const auto rejected = [&](auto change) {
+    Options bad = o;
+    change(bad);
+    try {
+      bad.check();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(rejected([](Options& b) { b.min_edge_px = 1.5; }).find("max_edge_px"), std::string::npos);
+  EXPECT_NE(rejected([](Options& b) { b.smooth_bilaplacian = 0.6; }).find("smooth_bilaplacian"), std::string::npos);
+  EXPECT_NE(rejected([](Options& b) { b.photo_window = 8; }).find("photo_window"), std::string::npos);  // even
+  EXPECT_NE(rejected([](Options& b) { b.photo_window = 1; }).find("photo_window"), std::string::npos);
+  EXPECT_NE(rejected([](Options& b) { b.photo_partners = 0; }).find("photo_partners"), std::string::npos);
+  EXPECT_NE(rejected([](Options& b) { b.photo_baseline_max_deg = b.photo_baseline_min_deg - 1; }).find("baselines"),
+            std::string::npos);
+  EXPECT_NE(rejected([](Options& b) { b.photo_coarsest_level = 7; }).find("photo_coarsest_level"), std::string::npos);
+  EXPECT_NE(rejected([](Options& b) { b.photo_level_iterations = 0; }).find("photo_level_iterations"),
+            std::string::npos);
+  EXPECT_NE(rejected([](Options& b) { b.w_photo = 1.5; }).find("w_photo"), std::string::npos);
+  EXPECT_NE(rejected([](Options& b) { b.sil_tolerance_px = -1; }).find("sil_tolerance_px"), std::string::npos);
 }
 
-TEST(DeformOptions, TexturePyramidRunsCoarseToFineOverTheFirstThirdOfTheTextureIterations) {
+TEST(DeformOptions, PhotometricForceRunsCoarseToFine) {
   Options o;
-  o.iterations = 12;
-  o.texture_start = 2;  // texture iterations 2..11: 10 of them, the first 3 coarse
-  o.texture_pyramid = 2;
+  o.iterations = 14;
+  o.photo_start = 2;
+  o.photo_coarsest_level = 3;
+  o.photo_level_iterations = 3;
   std::vector<int> levels;
-  for (int it = 0; it < o.iterations; ++it) levels.push_back(o.texture_level(it));
-  EXPECT_EQ(levels, (std::vector<int>{0, 0, 2, 2, 1, 0, 0, 0, 0, 0, 0, 0}));
-  o.texture_pyramid = 0;
-  for (int it = 0; it < o.iterations; ++it) EXPECT_EQ(o.texture_level(it), 0);
+  for (int it = 0; it < o.iterations; ++it) levels.push_back(o.photo_level(it));
+  EXPECT_EQ(levels, (std::vector<int>{-1, -1, 3, 3, 3, 2, 2, 2, 1, 1, 1, 0, 0, 0}));
+  o.photo_coarsest_level = 0;
+  for (int it = 2; it < o.iterations; ++it) EXPECT_EQ(o.photo_level(it), 0);
 }
 
 TEST(DeformRemesh, CollapseFoldsRemovesAFoldOverInAVertexFan) {

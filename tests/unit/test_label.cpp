@@ -192,7 +192,7 @@ TEST(Label, SphereKeepsInteriorShell) {
   EXPECT_EQ(w.exterior, 0);
 }
 
-// Free space outranks occlusion for Q itself (label.drop_free_points): false matches
+// Free space outranks occlusion for Q itself (the filter in_free_space): false matches
 // floating in the cup's cavity and in front of its wall, "consistent" in a few views, lie in
 // front of what other views see there and are dropped; no true surface point is.
 TEST(Label, PointsInFreeSpaceAreDropped) {
@@ -259,7 +259,7 @@ Scene without_silhouettes(const Scene& s) {
 }
 }  // namespace
 
-// Silhouettes estimated from Q (label.q_silhouettes) outline the object: in every view the
+// Silhouettes estimated from Q (common/q_silhouettes.h) outline the object: in every view the
 // estimate covers the true silhouette but for a sliver, and exceeds it by little.
 TEST(Label, SilhouettesEstimatedFromQ) {
   const CupCase& k = sphere();
@@ -320,7 +320,7 @@ TEST(Label, HullOfQCarvesAndDropsFalsePoints) {
   EXPECT_GT(w.interior_total, 20);
   // without the estimate only the box boundary and the votes give exterior cells; the false
   // point is still dropped, as it lies in front of the median depth of Q in the views that
-  // call it consistent (label.median_free_views), while true points are kept
+  // call it consistent (the filter in_front_of_median), while true points are kept
   if (test::kSanitized) return;  // two more label runs: the Release pass checks them
   o.q_sil.on = false;
   const label::Result off = label::label_cells(k.mesh, s, q, o);
