@@ -24,9 +24,9 @@ void Options::check() const {
   require(free_weight >= 0 && std::isfinite(free_weight), "label.free_weight must be >= 0, got ", free_weight);
   require(std::isfinite(interior_depth_px), "label.interior_depth_px must be finite");
   require(hull_core_px >= 0 && seed_core_px >= 0, "label.hull_core_px and label.seed_core_px must be >= 0");
-  require(seen_free_views >= 0 && seen_free_min_cells >= 0, "label.seen_free_views and label.seen_free_min_cells must be >= 0");
-  require(seen_free_hull_px >= 0 && voted_out_hull_px >= 0 && conflict_px >= 0,
-          "label: hull depths and the conflict reach must be >= 0");
+  require(seen_free_views >= 0 && seen_free_min_cells >= 0, "label.seen_free_views must be >= 0");
+  require(hull_depth_px >= 0 && std::isfinite(hull_depth_px), "label.hull_depth_px must be >= 0");
+  require(conflict_px >= 0 && std::isfinite(conflict_px), "label.conflict_px must be >= 0");
   require(interior_min_share >= 0 && interior_min_share <= 1, "label.interior_min_share must lie in [0, 1]");
   q_sil.check();
 }
@@ -42,9 +42,7 @@ Options Options::from_params(const Params& p) {
   o.hull_core_px = p.d("label.hull_core_px");
   o.seed_core_px = p.d("label.seed_core_px");
   o.seen_free_views = p.i("label.seen_free_views");
-  o.seen_free_hull_px = p.d("label.seen_free_hull_px");
-  o.seen_free_min_cells = p.i("label.seen_free_min_cells");
-  o.voted_out_hull_px = p.d("label.voted_out_hull_px");
+  o.hull_depth_px = p.d("label.hull_depth_px");
   o.interior_min_share = p.d("label.interior_min_share");
   o.conflict_px = p.d("label.conflict_px");
   o.q_sil = QSilhouetteOptions::from_params(p);
@@ -93,8 +91,8 @@ std::vector<std::uint8_t> voted_out_cells(const Inputs& in, const std::vector<st
   std::vector<std::uint8_t> out(candidate.size(), 0);
   for (std::size_t c = 0; c < out.size(); ++c)
     out[c] = candidate[c] && votes[c] > high && votes[c] >= in.o.min_views && (ev.facts[c] & kFreeInViews);
-  if (in.o.voted_out_hull_px > 0 && in.hull.num_silhouettes() > 0) {
-    const auto shallow = near_hull_surface(in, out, in.o.voted_out_hull_px);
+  if (in.o.hull_depth_px > 0 && in.hull.num_silhouettes() > 0) {
+    const auto shallow = near_hull_surface(in, out, in.o.hull_depth_px);
     for (std::size_t c = 0; c < out.size(); ++c)
       if (shallow[c]) out[c] = 0, ++r.voted_out_near_hull;
   }
@@ -138,8 +136,8 @@ std::vector<std::uint8_t> seen_free_cells(const Inputs& in, const ViewEvidence& 
   std::vector<std::uint8_t> out(C, 0);
   if (in.o.seen_free_views <= 0) return out;
   for (std::int32_t c = 0; c < C; ++c) out[c] = (ev.facts[c] & kSeenFreeAir) != 0;
-  if (in.o.seen_free_hull_px > 0 && in.hull.num_silhouettes() > 0) {
-    const auto shallow = near_hull_surface(in, out, in.o.seen_free_hull_px);
+  if (in.o.hull_depth_px > 0 && in.hull.num_silhouettes() > 0) {
+    const auto shallow = near_hull_surface(in, out, in.o.hull_depth_px);
     for (std::int32_t c = 0; c < C; ++c) out[c] = out[c] && !shallow[c];
   }
   if (in.o.seen_free_min_cells > 1) {
@@ -190,7 +188,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   const QPoints q = filter_points(s, q_in, {o.hull_core_px, o.min_views, margin, cell},
                                   o.hull_core_px > 0 ? silhouette_distances(s) : std::vector<cv::Mat>(), q_sil, r.dropped);
   Inputs in{m, s, hull, q, o, pts, pixel, {}};
-  if (hull.num_silhouettes() > 0 && (o.voted_out_hull_px > 0 || o.seen_free_hull_px > 0))
+  if (hull.num_silhouettes() > 0 && o.hull_depth_px > 0)
     in.hull_dist = silhouette_distances(hull);
   // 2. geometry: the box boundary and the visual hull
   Proposals p(C);

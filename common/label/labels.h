@@ -59,9 +59,10 @@ struct Options {
   // seen_free (0 = off): free space in this many views, hidden in no view within the shell,
   // behind a wall in half of the views hiding it, ...
   int seen_free_views = 0;
-  double seen_free_hull_px = 28;      // ... this deep inside every silhouette (pixels; 0 = no test)
-  int seen_free_min_cells = 0;        // ... in a face-connected group of this many (0, 1 = no test)
-  double voted_out_hull_px = 0;       // voted_out: this deep inside every silhouette (pixels; 0 = no test)
+  int seen_free_min_cells = 2;        // ... in a face-connected group of this many (not a parameter)
+  // seen_free and voted_out: this deep inside every silhouette (pixels; 0 = no test): under a
+  // surface that a silhouette bounds, Q's band lies inside the matter, which then looks free.
+  double hull_depth_px = 0;
   double interior_min_share = 0;      // hidden: in a group of this share of the largest (0 = no test)
   double conflict_px = 0;             // conflict: reach in pixels at the object (0 = off)
   QSilhouetteOptions q_sil;           // silhouettes estimated from Q (scenes without any)
@@ -93,7 +94,7 @@ struct Result {
   // cells a rule's own test turned down (left to the rules below it, or free)
   std::int64_t too_deep = 0;             // hidden, but deeper than interior_depth_px
   std::int64_t interior_islands = 0;     // hidden, in a group smaller than interior_min_share
-  std::int64_t voted_out_near_hull = 0;  // voted out, less than voted_out_hull_px inside the hull
+  std::int64_t voted_out_near_hull = 0;  // voted out, less than hull_depth_px inside the hull
   std::int64_t seen_free_islands = 0;    // seen free, in a group smaller than seen_free_min_cells
   std::int64_t count(Rule r) const { return cells[static_cast<int>(r)]; }
   std::int64_t count(Filter f) const { return dropped[static_cast<int>(f)]; }

@@ -12,6 +12,7 @@
 #include <random>
 #include <opencv2/imgproc.hpp>
 
+#include "common/label/hull.h"
 #include "common/label/labels.h"
 #include "common/q_silhouettes.h"
 #include "common/synth/objects.h"
@@ -140,6 +141,17 @@ Wrong count_wrong(const CupCase& k, const label::Result& r) {
   return w;
 }
 
+// Options whose depths are the given numbers of this case's finest cells, in its pixels at
+// the object: the margin 2 cells and the interior depth `interior` (the pipeline's defaults,
+// 7 and 28 px, are 2 and 8 of its cells at LEVELS=3; the constructed meshes are coarser).
+label::Options in_cells(const CupCase& k, double interior) {
+  const double cell = tet::red_edge_length(k.mesh.lat, k.mesh.max_cell_level()), px = label::pixel_size(k.scene);
+  label::Options o;
+  o.depth_margin_px = 2 * cell / px;
+  o.interior_depth_px = interior * cell / px;
+  return o;
+}
+
 }  // namespace
 
 // With exact points the default rules label no cell wrongly: no interior cell in the unseen
@@ -223,8 +235,7 @@ const CupCase& torus48() {  // 48 ring views, Q off the surface, each point in i
 
 TEST(Label, FewViewsSeeingThroughDoNotOutweighManyHidingViews) {
   const CupCase& k = torus48();
-  label::Options o;
-  o.interior_depth_px = 20;
+  label::Options o = in_cells(k, 4);
   const int finest = k.mesh.max_cell_level();
   const auto shares = [&](double weight) {
     o.free_weight = weight;
@@ -360,7 +371,7 @@ TEST(Label, SeenFreeSpaceCarvesTheCavityNotTheWalls) {
   const CupCase& k = cup();
   label::Options o;
   o.interior_depth_px = 20;
-  o.seen_free_hull_px = 7;  // pixels of 0.02 here: the seen air lies 0 to 0.55 under the rim
+  o.hull_depth_px = 7;  // pixels of 0.02 here: the seen air lies 0 to 0.55 under the rim
   const auto cavity_exterior = [&](const label::Result& r) {
     std::int64_t n = 0;
     for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c) n += k.in_cavity[c] && r.label[c] == -1;
@@ -394,12 +405,11 @@ TEST(Label, SeenFreeSpaceCarvesTheCavityNotTheWalls) {
       }
     return std::pair<std::int64_t, double>(n, deepest);
   };
-  label::Options ot;
-  ot.interior_depth_px = 20;
+  label::Options ot = in_cells(t, 4);
   ot.seen_free_views = 1;
-  ot.seen_free_hull_px = 7;
+  ot.hull_depth_px = 1.5 * cell / label::pixel_size(t.scene);
   const auto [n_all, deep_all] = wrong(ot);
-  ot.seen_free_hull_px = 0;  // without the hull test
+  ot.hull_depth_px = 0;  // without the hull test
   const auto [n_rule, deep_rule] = wrong(ot);
   std::printf("torus: exterior cells with the centroid inside: %lld (deepest %.2f cells) with the whole rule, %lld (%.2f) "
               "without the hull test\n",
@@ -407,7 +417,7 @@ TEST(Label, SeenFreeSpaceCarvesTheCavityNotTheWalls) {
   // with the exit test only cells straddling the noisy surface, which the cut's surface
   // crosses anyway
   EXPECT_LT(deep_rule, 1.0);
-  // the hull test (label.seen_free_hull_px) keeps few of those (measured 4, 0.66): the
+  // the hull test (label.hull_depth_px) keeps few of those (measured 4, 0.66): the
   // cells under the surface that look free lie in the shell under the visual hull's surface
   EXPECT_LT(n_all * 10, n_rule);
   EXPECT_LT(deep_all, 0.8);
@@ -423,10 +433,11 @@ TEST(Label, SeenFreeSpaceLeavesTheHullCoreAndTheVotesAlone) {
   o.hull_core_px = 1.5;
   const label::Result off = label::label_cells(k.mesh, k.scene, k.q, o);
   o.seen_free_views = 1;
-  o.seen_free_hull_px = 0;
   const label::Result on = label::label_cells(k.mesh, k.scene, k.q, o);
-  o.seen_free_hull_px = 500;  // rejects every cell the rule's first tests take
+  o.hull_depth_px = 500;  // rejects every cell the rule's first tests take (and every voted-out cell)
   const label::Result none = label::label_cells(k.mesh, k.scene, k.q, o);
+  o.seen_free_views = 0;
+  const label::Result off_deep = label::label_cells(k.mesh, k.scene, k.q, o);
   std::printf("hull core %lld / %lld cells without / with the rule (%lld seen free); voted out %lld without the rule, "
               "%lld with all its cells rejected\n",
               (long long)off.count(label::Rule::kHullCore), (long long)on.count(label::Rule::kHullCore), (long long)on.count(label::Rule::kSeenFree), (long long)off.count(label::Rule::kVotedOut),
@@ -434,10 +445,10 @@ TEST(Label, SeenFreeSpaceLeavesTheHullCoreAndTheVotesAlone) {
   EXPECT_GT(off.count(label::Rule::kHullCore), 0);
   EXPECT_EQ(on.count(label::Rule::kHullCore), off.count(label::Rule::kHullCore));
   EXPECT_EQ(none.count(label::Rule::kSeenFree), 0);
-  EXPECT_EQ(none.label, off.label);  // the rule's rejected cells keep the labels they had without it
+  EXPECT_EQ(none.label, off_deep.label);  // the rule's rejected cells keep the labels they had without it
 }
 
-// The vote rule's hull test (label.voted_out_hull_px). Where silhouettes bound a surface, a
+// The vote rule's hull test (label.hull_depth_px). Where silhouettes bound a surface, a
 // real Q lies cells under it (its band of photo-consistency is clipped in front of the
 // surface); the rays of those points to their cameras cross the matter above them, which then
 // has many votes and is seen as free space. Sphere with Q 0.25 under the surface (12.5 px of
@@ -455,7 +466,7 @@ TEST(Label, VotedOutCellsLieDeepInsideTheHull) {
     return n;
   };
   const label::Result off = label::label_cells(k.mesh, k.scene, k.q, o);
-  o.voted_out_hull_px = 20;
+  o.hull_depth_px = 20;
   const label::Result on = label::label_cells(k.mesh, k.scene, k.q, o);
   const std::int64_t w_off = wrong_voted_out(k, off), w_on = wrong_voted_out(k, on);
   std::printf("sphere, Q 0.25 inside: voted out %lld (%lld inside the sphere) without the hull test, %lld (%lld) "
@@ -477,9 +488,9 @@ TEST(Label, VotedOutCellsLieDeepInsideTheHull) {
   label::Options oc;
   oc.interior_depth_px = 20;
   const std::int64_t n0 = label::label_cells(cup_k.mesh, cup_k.scene, cup_k.q, oc).count(label::Rule::kVotedOut);
-  oc.voted_out_hull_px = 2.5;
+  oc.hull_depth_px = 2.5;
   const std::int64_t n_half = label::label_cells(cup_k.mesh, cup_k.scene, cup_k.q, oc).count(label::Rule::kVotedOut);
-  oc.voted_out_hull_px = 5;
+  oc.hull_depth_px = 5;
   const std::int64_t n_one = label::label_cells(cup_k.mesh, cup_k.scene, cup_k.q, oc).count(label::Rule::kVotedOut);
   EXPECT_GT(n0, n_half);
   EXPECT_GT(n_half, n_one);
@@ -550,14 +561,16 @@ TEST(Label, SmallGroupsOfCellsAreIslands) {
   EXPECT_GT(one.interior, 0);
 }
 
-// The seen-free rule's group test (label.seen_free_min_cells): only groups of at least that
-// many of the rule's cells are labelled; the rest keep the other rules' labels.
+// The seen-free rule's group test (Options::seen_free_min_cells, 2 in the pipeline): only
+// groups of at least that many of the rule's cells are labelled; the rest keep the other
+// rules' labels.
 TEST(Label, SeenFreeSpaceInGroupsOnly) {
   const CupCase& k = cup();
   label::Options o;
   o.interior_depth_px = 20;
-  o.seen_free_hull_px = 7;
+  o.hull_depth_px = 7;
   o.seen_free_views = 1;
+  o.seen_free_min_cells = 0;  // every group
   const label::Result all = label::label_cells(k.mesh, k.scene, k.q, o);
   std::vector<std::uint8_t> rule(k.mesh.num_cells(), 0);
   for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c) rule[c] = all.reason[c] == kSeenFree;
@@ -666,7 +679,7 @@ TEST(Label, ConflictingLabelsFromQAreLeftFree) {
   for (const CupCase* k : {&cup(), &sphere()}) {
     label::Options lo;
     lo.interior_depth_px = 20;
-    lo.seen_free_hull_px = 7;
+    lo.hull_depth_px = 7;
     lo.seen_free_views = k == &cup() ? 1 : 0;
     const label::Result a = label::label_cells(k->mesh, k->scene, k->q, lo);
     lo.conflict_px = 15;
