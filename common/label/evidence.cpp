@@ -33,31 +33,41 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
   {
     std::vector<Counts> n(kChunk);
     std::vector<double> gaps(static_cast<std::size_t>(kChunk) * V);  // depth behind Q's visible side, per hiding view
+    // per view, the chunk's cells that project into the image: their index in the chunk, depth,
+    // pixel (offset in the image) and the four depths there, gathered in a loop of their own so
+    // that the lookups, which miss the cache, overlap
+    std::vector<std::int32_t> at(kChunk), pix(kChunk);
+    std::vector<double> zs(kChunk);
+    std::vector<cv::Vec4f> px(kChunk);
 #pragma omp for schedule(dynamic, 4)
     for (std::int32_t c0 = 0; c0 < C; c0 += kChunk) {
       const std::int32_t c1 = std::min(C, c0 + kChunk);
       std::fill(n.begin(), n.end(), Counts{});
       for (int v = 0; v < V; ++v) {
         const Camera& cam = s.cams[v];
-        const cv::Mat& depths = packed[v];
+        const cv::Vec4f* depths = packed[v].ptr<cv::Vec4f>(0);
+        std::int32_t seen = 0;
         for (std::int32_t c = c0; c < c1; ++c) {
-          if (!of[c]) continue;
           double z;
           int u, w;
-          if (!nearest_pixel(cam, pts.centroid[c], z, u, w)) continue;
-          Counts& k = n[c - c0];
-          const cv::Vec4f& px = depths.ptr<cv::Vec4f>(w)[u];
-          const float df = px[0], db = px[1], dn = px[2], dx = px[3];
+          if (!of[c] || !nearest_pixel(cam, pts.centroid[c], z, u, w)) continue;
+          at[seen] = c - c0, zs[seen] = z, pix[seen++] = w * cam.width + u;
+        }
+        for (std::int32_t i = 0; i < seen; ++i) px[i] = depths[pix[i]];
+        for (std::int32_t i = 0; i < seen; ++i) {
+          const double z = zs[i];
+          Counts& k = n[at[i]];
+          const float df = px[i][0], db = px[i][1], dn = px[i][2], dx = px[i][3];
           const bool is_free = dn != 0 && z < dn - o.margin, is_beyond = dx != 0 && z > dx + o.margin;
           k.free_space += is_free;
           k.beyond += is_beyond;
           k.outside_views += is_free || is_beyond;
           if (df != 0 && db != 0 && z > df + o.margin && z < db - o.margin) {
             ++k.hidden;
-            gaps[static_cast<std::size_t>(c - c0) * V + k.gaps++] = z - df;
+            gaps[static_cast<std::size_t>(at[i]) * V + k.gaps++] = z - df;
             k.shell_hidden += z - df <= o.shell;
             if (exits) {
-              const float ex = d.exit[v].ptr<float>(w)[u], en = d.entry[v].ptr<float>(w)[u];
+              const float ex = d.exit[v].ptr<float>(0)[pix[i]], en = d.entry[v].ptr<float>(0)[pix[i]];
               k.exited += ex != 0 && ex < z - o.margin && (en == 0 || en > z - o.margin);
             }
           }

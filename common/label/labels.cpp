@@ -169,6 +169,36 @@ std::vector<std::uint8_t> seed_core_cells(const Inputs& in, const Decision& d, c
   return hull_core_cells(in.m, in.pts, in.s, silhouette_distances(in.s), skip, in.o.seed_core_px, in.o.min_views);
 }
 
+// hull_core: cells deep inside every silhouette (of those no geometry rule labels).
+std::vector<std::uint8_t> hull_core_rule(const Inputs& in, const std::vector<std::uint8_t>& free_cell) {
+  std::vector<std::uint8_t> labelled(free_cell.size());
+  for (std::size_t c = 0; c < labelled.size(); ++c) labelled[c] = !free_cell[c];
+  return hull_core_cells(in.m, in.pts, in.s, silhouette_distances(in.s), labelled, in.o.hull_core_px, in.o.min_views);
+}
+
+// The vote percentiles over the candidates (the upper one over those a ray reaches).
+void vote_percentiles(const std::vector<std::uint8_t>& candidate, const Options& o, Result& r) {
+  std::vector<std::int32_t> pool, crossed;
+  for (std::size_t c = 0; c < candidate.size(); ++c)
+    if (candidate[c]) {
+      pool.push_back(r.votes[c]);
+      if (r.votes[c] > 0) crossed.push_back(r.votes[c]);
+    }
+  r.low_votes = percentile(pool, o.low_percentile);
+  r.high_votes = percentile(crossed, o.high_percentile);
+}
+
+// The decision and the evidence into the result.
+void take(Decision d, ViewEvidence ev, Result& r) {
+  r.label = std::move(d.label);
+  r.reason = std::move(d.reason);
+  r.cells = d.cells, r.interior = d.interior, r.exterior = d.exterior;
+  r.free_views = std::move(ev.free_views), r.beyond_views = std::move(ev.beyond_views);
+  r.hidden_views = std::move(ev.hidden_views), r.seen_views = std::move(ev.seen_views);
+  r.hidden_depth = std::move(ev.hidden_depth);
+  r.inside_evidence = std::move(ev.inside), r.outside_evidence = std::move(ev.outside);
+}
+
 }  // namespace
 
 Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, const Options& o) {
@@ -188,8 +218,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   const QPoints q = filter_points(s, q_in, {o.hull_core_px, o.min_views, margin, cell},
                                   o.hull_core_px > 0 ? silhouette_distances(s) : std::vector<cv::Mat>(), q_sil, r.dropped);
   Inputs in{m, s, hull, q, o, pts, pixel, {}};
-  if (hull.num_silhouettes() > 0 && o.hull_depth_px > 0)
-    in.hull_dist = silhouette_distances(hull);
+  if (hull.num_silhouettes() > 0 && o.hull_depth_px > 0) in.hull_dist = silhouette_distances(hull);
   // 2. geometry: the box boundary and the visual hull
   Proposals p(C);
   p.add(Rule::kBoundary, boundary_cells(m));
@@ -201,23 +230,12 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   }
   // 3. votes, and what the views see of the free cells
   r.votes = visibility_votes(m, s, q, 0.5 * margin, &r.rays, &candidate, &pts);
-  std::vector<std::int32_t> pool, crossed;  // crossed: the high percentile ignores cells no ray reaches
-  for (std::int32_t c = 0; c < C; ++c)
-    if (candidate[c]) {
-      pool.push_back(r.votes[c]);
-      if (r.votes[c] > 0) crossed.push_back(r.votes[c]);
-    }
-  r.low_votes = percentile(pool, o.low_percentile);
-  r.high_votes = percentile(crossed, o.high_percentile);
+  vote_percentiles(candidate, o, r);
   const double shell = o.interior_depth_px > 0 ? o.interior_depth_px * pixel : std::numeric_limits<double>::infinity();
-  const ViewEvidence ev = view_evidence(m, pts, s, visible_side_maps(s, q, cell, o.seen_free_views > 0, margin), free_cell,
+  ViewEvidence ev = view_evidence(m, pts, s, visible_side_maps(s, q, cell, o.seen_free_views > 0, margin), free_cell,
                                         {margin, shell, o.min_views, o.free_weight, o.seen_free_views, pixel});
   // 4. the rules from Q and the priors, decided by the precedence table
-  if (o.hull_core_px > 0) {
-    std::vector<std::uint8_t> labelled(C);
-    for (std::int32_t c = 0; c < C; ++c) labelled[c] = !free_cell[c];
-    p.add(Rule::kHullCore, hull_core_cells(m, pts, s, silhouette_distances(s), labelled, o.hull_core_px, o.min_views));
-  }
+  if (o.hull_core_px > 0) p.add(Rule::kHullCore, hull_core_rule(in, free_cell));
   p.add(Rule::kSeenFree, seen_free_cells(in, ev, r));
   p.add(Rule::kVotedOut, voted_out_cells(in, candidate, r.votes, r.high_votes, ev, r));
   p.add(Rule::kHidden, hidden_cells(in, candidate, r.votes, r.low_votes, ev, r));
@@ -230,14 +248,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     p.add(Rule::kSeedCore, seed_core_cells(in, d, ev));
     d = decide(p);
   }
-  r.label = std::move(d.label);
-  r.reason = std::move(d.reason);
-  r.cells = d.cells;
-  r.interior = d.interior;
-  r.exterior = d.exterior;
-  r.free_views = ev.free_views, r.beyond_views = ev.beyond_views, r.hidden_views = ev.hidden_views;
-  r.seen_views = ev.seen_views, r.hidden_depth = ev.hidden_depth;
-  r.inside_evidence = ev.inside, r.outside_evidence = ev.outside;
+  take(std::move(d), std::move(ev), r);
   return r;
 }
 
