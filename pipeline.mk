@@ -59,7 +59,7 @@ has = $(filter $(1),$(PROGRAMS))
 MIDDLEBURY := dinoRing templeRing dinoSparseRing templeSparseRing
 
 # --- the variables, checked before anything is made ----------------------------------------
-ifeq ($(filter help clean,$(MAKECMDGOALS)),)
+ifeq ($(filter help help-all clean,$(MAKECMDGOALS)),)
 ifneq ($(words $(LEVELS)) $(filter $(LEVELS),1 2 3 4 5 6 7 8 9 10 11 12),1 $(LEVELS))
 $(error LEVELS='$(LEVELS)': give the number of refinement levels, a whole number from 1 to 12)
 endif
@@ -73,7 +73,7 @@ RUN_ABS := $(abspath $(RUN_DIR))
 ifneq ($(or $(filter / $(abspath $(HOME)),$(RUN_ABS)),$(filter $(RUN_ABS)/%,$(ROOT)/)),)
 $(error RUN_DIR=$(RUN_DIR) is $(RUN_ABS), which holds the sources or is the home folder; give a run folder of its own)
 endif
-ifeq ($(COLMAP_WS)$(filter synth-%,$(DATA))$(filter $(DATA),$(MIDDLEBURY))$(filter help clean,$(MAKECMDGOALS)),)
+ifeq ($(COLMAP_WS)$(filter synth-%,$(DATA))$(filter $(DATA),$(MIDDLEBURY))$(filter help help-all clean,$(MAKECMDGOALS)),)
 ifeq ($(wildcard $(DATASET)/.),)
 $(error DATA=$(DATA): no dataset folder $(DATASET) (give synth-<object>, one of $(MIDDLEBURY), a folder under DATA_DIR=$(DATA_DIR), or DATA_DIR=<COLMAP workspace>))
 endif
@@ -113,7 +113,7 @@ stamp_text = $(call set_args,$(1)) $(STAGE_FLAGS) $(subst ','"'"',$(call params_
 ifneq ($(findstring n,$(filter-out --%,$(firstword -$(MAKEFLAGS)))),)
 STAMPS := $(shell d='$(RUN_DIR)/.params-dry'; rm -rf "$$d"; mkdir -p "$$d"; cp -p '$(RUN_DIR)/.params/'*.args "$$d"/ 2>/dev/null; echo "$$d")
 endif
-ifeq ($(filter help clean,$(MAKECMDGOALS)),)
+ifeq ($(filter help help-all clean,$(MAKECMDGOALS)),)
 _stamps := $(foreach s,$(ALL_STAGES),$(shell mkdir -p '$(STAMPS)' && printf '%s\n' '$(call stamp_text,$(s))' > '$(STAMPS)/$(s).args.new' && { cmp -s '$(STAMPS)/$(s).args.new' '$(STAMPS)/$(s).args' && rm -f '$(STAMPS)/$(s).args.new' || mv -f '$(STAMPS)/$(s).args.new' '$(STAMPS)/$(s).args'; }))
 endif
 args = $(call set_args,$(1)) $(STAGE_FLAGS)
@@ -152,7 +152,7 @@ endif
 # deform.h5, are left as they are.)
 RUN_FILES := $(wildcard $(addprefix $(RUN_DIR)/,scene.h5 mesh_*.h5 pc_*.h5 scores.h5 labels.h5 silfix.h5 cut1.h5 \
   cut1.ply cut2.ply final.ply eval_*.json))
-ifneq ($(and $(RUN_FILES),$(wildcard $(BIN)/validate),$(filter-out help clean,$(or $(MAKECMDGOALS),all))),)
+ifneq ($(and $(RUN_FILES),$(wildcard $(BIN)/validate),$(filter-out help help-all clean,$(or $(MAKECMDGOALS),all))),)
 DAMAGED := $(shell TETMVS_LOG= '$(BIN)/validate' --names --quiet $(RUN_FILES) 2>/dev/null)
 endif
 target_of = $(patsubst %/cut1.h5,%/cut1.ply,$(1))
@@ -164,7 +164,7 @@ endif
 FORCE:
 
 # --- stages ------------------------------------------------------------------------------
-.PHONY: all ingest mesh levels points cut1 cut2 final evaluate report help clean
+.PHONY: all ingest mesh levels points cut1 cut2 final evaluate report help help-all clean
 all: $(if $(call has,deform),final,$(if $(call has,silhouette-fix),cut2,$(if $(call has,cut),cut1,$(if $(call has,photoconsist),points,$(if $(call has,refine),levels,$(if $(call has,bcc-init),mesh,ingest)))))) $(if $(and $(call has,evaluate),$(GT),$(call has,cut)),evaluate)
 
 ingest: $(RUN_DIR)/scene.h5
@@ -242,11 +242,19 @@ shq = '$(subst ','\'',$(1))'
 
 help:
 	@echo "Targets:   all (default: every stage that exists), ingest, mesh, levels, points,"
-	@echo "           cut1, cut2, final, evaluate, clean, help"
+	@echo "           cut1, cut2, final, evaluate, report, clean, help, help-all"
 	@echo "Variables: DATA=$(DATA)  DATA_DIR=$(DATA_DIR)  RUN_DIR=$(RUN_DIR)"
 	@echo "           LEVELS=$(LEVELS)  PARAMS=$(PARAMS)  QUIET=$(QUIET)  BUILD_DIR=$(BUILD_DIR)"
 	@echo "           DATA: synth-<object> renders a synthetic scene; $(MIDDLEBURY) use DATA_DIR or download"
 	@echo "           DATA_DIR=<COLMAP workspace> (images/ + sparse/) reconstructs it (docs/colmap.md)"
-	@echo "Parameters (VAR=value on the command line; default, paper value, stages):"
-	@$(foreach v,$(MAKE_PARAMS),d=$(call shq,$(PARAM_$(v)_DEFAULT)); if printf %g "$$d" >/dev/null 2>&1; then d=$$(printf %g "$$d"); fi; \
-	  printf '  %-28s %-10s %-28s %s\n' '$(v)' "$$d" $(call shq,$(PARAM_$(v)_PAPER)) '$(PARAM_$(v)_STAGES)';)
+	@echo "Parameters (VAR=value on the command line; default, paper value, stages) of the paper and"
+	@echo "its extensions; 'make -f pipeline.mk help-all' also lists the expert ones:"
+	@$(call param_lines,$(foreach v,$(MAKE_PARAMS),$(if $(filter expert,$(PARAM_$(v)_TIER)),,$(v))))
+
+help-all:
+	@echo "Parameters (VAR=value on the command line; default, paper value, tier, stages):"
+	@$(call param_lines,$(MAKE_PARAMS))
+
+# One line per make variable in $(1): name, default, paper value, tier, stages.
+param_lines = $(foreach v,$(1),d=$(call shq,$(PARAM_$(v)_DEFAULT)); if printf %g "$$d" >/dev/null 2>&1; then d=$$(printf %g "$$d"); fi; \
+	  printf '  %-28s %-10s %-28s %-9s %s\n' '$(v)' "$$d" $(call shq,$(PARAM_$(v)_PAPER)) '$(PARAM_$(v)_TIER)' '$(PARAM_$(v)_STAGES)';)

@@ -73,8 +73,11 @@ Params Params::defaults() {
     fail("params/defaults.json: invalid JSON: ", e.what());
   }
   for (auto& [key, decl] : p.table_.items()) {
-    for (const char* f : {"value", "type", "meaning", "stages"})
+    for (const char* f : {"value", "type", "meaning", "stages", "tier"})
       if (!decl.contains(f)) fail("params/defaults.json: parameter ", key, " lacks '", f, "'");
+    const std::string tier = decl["tier"].is_string() ? decl["tier"].get<std::string>() : "";
+    if (tier != "paper" && tier != "extension" && tier != "expert")
+      fail("params/defaults.json: parameter ", key, " has tier '", tier, "' (paper, extension or expert)");
     decl["value"] = coerce(decl, decl["value"], key, "params/defaults.json");
   }
   return p;
@@ -173,16 +176,24 @@ json Params::values_for(const std::string& stage) const {
   return out;
 }
 
-std::string Params::help_for(const std::string& stage) const {
+std::string Params::help_for(const std::string& stage, bool all) const {
   std::ostringstream os;
   const auto keys = keys_for(stage);
   if (keys.empty()) return "";
-  os << "Parameters (--set key=value; make variable in brackets):\n";
+  int hidden = 0;
+  for (const auto& k : keys) hidden += !all && table_.at(k).at("tier") == "expert";
+  os << "Parameters (--set key=value; make variable in brackets)"
+     << (all ? " of every tier" : hidden > 0 ? ": the paper's and the extensions'; --help-all also lists " +
+                                                   std::to_string(hidden) + " expert ones"
+                                             : "")
+     << ":\n";
   for (const auto& k : keys) {
     const auto& d = table_.at(k);
+    if (!all && d.at("tier") == "expert") continue;
     os << "  " << k << " = " << d.at("value").dump();
     if (d.contains("unit") && !d["unit"].get<std::string>().empty()) os << " [" << d["unit"].get<std::string>() << "]";
     if (d.contains("make")) os << "  (" << d["make"].get<std::string>() << ")";
+    os << "  {" << d.at("tier").get<std::string>() << "}";
     os << "\n      " << d.at("meaning").get<std::string>();
     if (d.contains("paper")) os << " Paper: " << d["paper"].get<std::string>() << ".";
     os << "\n";

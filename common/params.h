@@ -1,7 +1,9 @@
 // Parameters: one JSON file of documented defaults (params/defaults.json, compiled in),
 // per-dataset JSON overrides ({"key": value, ...}), and --set key=value on the command
 // line, applied in that order. Unknown keys, wrong types and values out of the
-// documented range are errors.
+// documented range are errors. Each parameter has a tier: "paper" (the paper's own
+// parameters), "extension" (the main setting of an extension of the paper) or "expert"
+// (details a user rarely changes; --help lists them only with --help-all).
 #pragma once
 #include <filesystem>
 #include <string>
@@ -33,8 +35,9 @@ class Params {
   std::vector<std::string> keys_for(const std::string& stage) const;
   // The full documented table (defaults.json with current values).
   const nlohmann::json& table() const { return table_; }
-  // Text for a stage's --help: its parameters with default, unit and paper value.
-  std::string help_for(const std::string& stage) const;
+  // Text for a stage's --help: its parameters with default, unit, tier and paper value;
+  // the expert tier only when `all` (--help-all).
+  std::string help_for(const std::string& stage, bool all = false) const;
 
  private:
   void set_value(const std::string& key, const nlohmann::json& v, const std::string& origin);

@@ -24,6 +24,7 @@ StageCli::StageCli(std::string stage, std::string description)
   app_.add_option("--threads", threads_, "worker threads (default: all cores); results do not depend on it");
   app_.add_flag("-q,--quiet", quiet_, "no progress or info messages, only errors and the summary");
   app_.set_help_flag("-h,--help", "print this help and exit");
+  app_.add_flag("--help-all", help_all_, "print this help with every parameter (the expert tier too) and exit");
   try {
     app_.footer(Params::defaults().help_for(stage_));
   } catch (const Error&) {
@@ -75,6 +76,15 @@ void check_threads(int threads) {
 }  // namespace
 
 int StageCli::run(int argc, char** argv, const std::function<void(StageContext&)>& body) {
+  for (int a = 1; a < argc; ++a)
+    if (std::string(argv[a]) == "--help-all") {
+      try {
+        app_.footer(Params::defaults().help_for(stage_, true));
+      } catch (const Error&) {
+      }
+      std::fputs(app_.help().c_str(), stdout);
+      return 0;
+    }
   try {
     app_.parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help

@@ -73,6 +73,7 @@ class StageCli {
   std::string params_file_;
   std::vector<std::string> sets_;
   bool quiet_ = false;
+  bool help_all_ = false;  // --help-all (handled before parsing)
   int threads_ = 0;
   std::vector<Declared> inputs_, outputs_;
 };

@@ -305,14 +305,11 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
   for (const auto& c : scene.cams) cam_fp.push_back((scene.box.center() - c.centre()).norm() / c.focal());
   const double fallback_fp = median(cam_fp);
 
-  // the photometric force's image pyramid and partners (Options::photo_level)
+  // the photometric force's images, one pyramid level at a time, coarse to fine
+  // (Options::photo_level): each level is made when first used and replaces the previous
   const photo::Views views(scene.cams, scene.grey);
-  std::vector<photo::Views> pyramid{views};
-  std::vector<std::vector<Camera>> pyramid_cams{scene.cams};
-  for (int l = 1; l <= opt.photo_coarsest_level; ++l) {
-    pyramid.push_back(views.reduced(l));
-    pyramid_cams.push_back(reduced_cameras(scene.cams, l));
-  }
+  PhotoLevel photo_images;
+  photo_images.level = -1;
   const std::vector<std::vector<int>> partners = photometric_partners(
       scene.cams, scene.box.center(), opt.photo_baseline_min_deg, opt.photo_baseline_max_deg, opt.photo_partners);
   std::vector<cv::Mat> sd(nc);
@@ -364,8 +361,11 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     st.photo_level = opt.w_photo > 0 ? opt.photo_level(it) : -1;
     if (st.photo_level >= 0) {
       const int l = st.photo_level;
-      const PhotometricGradient pg =
-          photometric_gradient(M.V, M.F, N, pyramid[l], pyramid_cams[l], partners, opt.photo_window);
+      if (photo_images.level != l) photo_images = make_photo_level(views, scene.cams, l);
+      std::vector<const Raster*> own;  // at full resolution the loop's rasters serve
+      if (l == 0)
+        for (const auto& r : rasters) own.push_back(&r.raster);
+      const PhotometricGradient pg = photometric_gradient(M.V, M.F, N, photo_images, partners, opt.photo_window, own);
       fphoto = photometric_steps(pg, topo, l, M.fp);
       st.mean_ncc = pg.mean_ncc;
       st.photo_pixels = pg.pixels;

@@ -33,9 +33,9 @@ ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat&
   ViewRaster r;
   RasterOptions ro;
   ro.cull_back = true;  // closed outward mesh: back faces are always hidden behind front ones
-  const Raster ras = rasterize(mesh, cam, ro);
-  r.depth = ras.depth;
-  const cv::Mat covered = ras.tri >= 0;
+  r.raster = rasterize(mesh, cam, ro);
+  r.depth = r.raster.depth;
+  const cv::Mat covered = r.raster.tri >= 0;
   r.sd = signed_distance(covered);
   r.covered = cv::countNonZero(covered);
   if (!sil.empty()) {

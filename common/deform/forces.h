@@ -14,6 +14,7 @@
 #include "common/camera.h"
 #include "common/deform/options.h"
 #include "common/deform/topology.h"
+#include "common/trimesh/raster.h"
 #include "common/trimesh/trimesh.h"
 
 namespace tetmvs::deform {
@@ -25,7 +26,8 @@ cv::Mat signed_distance(const cv::Mat& mask);
 
 // Per-view state of one iteration: the current mesh rasterised into the view.
 struct ViewRaster {
-  cv::Mat depth;   // CV_32F camera z, +inf where empty
+  Raster raster;   // back faces culled (depth and triangle ids)
+  cv::Mat depth;   // CV_32F camera z, +inf where empty (raster.depth)
   cv::Mat sd;      // CV_32F signed distance (px) to the boundary of the mesh's own silhouette (signed_distance)
   std::int64_t covered = 0, agree = 0, either = 0;  // silhouette IoU counts (views with silhouettes)
 };

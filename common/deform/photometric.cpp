@@ -217,14 +217,33 @@ std::vector<std::vector<int>> photometric_partners(const std::vector<Camera>& ca
   return out;
 }
 
+PhotoLevel make_photo_level(const photo::Views& full, const std::vector<Camera>& cams, int level) {
+  PhotoLevel lv;
+  lv.level = level;
+  lv.views = level == 0 ? full : full.reduced(level);
+  lv.cams = reduced_cameras(cams, level);
+  const int nc = lv.views.size();
+  lv.gx.resize(nc);
+  lv.gy.resize(nc);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int i = 0; i < nc; ++i) image_gradients(lv.views[i].grey, lv.gx[i], lv.gy[i]);
+  return lv;
+}
+
 PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F,
-                                         const std::vector<Eigen::Vector3d>& N, const photo::Views& views,
-                                         const std::vector<Camera>& cams,
-                                         const std::vector<std::vector<int>>& partners, int window) {
+                                         const std::vector<Eigen::Vector3d>& N, const PhotoLevel& lv,
+                                         const std::vector<std::vector<int>>& partners, int window,
+                                         const std::vector<const Raster*>& rasters) {
   require(window >= 3 && window % 2 == 1, "photometric_gradient: the window (", window, ") must be odd and >= 3");
+  const photo::Views& views = lv.views;
+  const std::vector<Camera>& cams = lv.cams;
+  const std::vector<cv::Mat>& gx = lv.gx;
+  const std::vector<cv::Mat>& gy = lv.gy;
   const int nv = static_cast<int>(V.size()), nf = static_cast<int>(F.size()), nc = views.size();
-  require(static_cast<int>(cams.size()) == nc && static_cast<int>(partners.size()) == nc,
-          "photometric_gradient: ", cams.size(), " cameras and ", partners.size(), " partner lists for ", nc, " views");
+  require(static_cast<int>(cams.size()) == nc && static_cast<int>(partners.size()) == nc &&
+              static_cast<int>(gx.size()) == nc && (rasters.empty() || static_cast<int>(rasters.size()) == nc),
+          "photometric_gradient: ", cams.size(), " cameras, ", gx.size(), " gradient images, ", rasters.size(),
+          " rasters and ", partners.size(), " partner lists for ", nc, " views");
 
   std::vector<Eigen::Vector3d> fn(nf);  // unit face normals
   std::vector<double> fd(nf);           // plane offsets fn . x
@@ -237,19 +256,23 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
     fd[f] = fn[f].dot(a);
   }
 
-  TriMesh tm;
-  tm.V = V;
-  tm.F = F;
-  std::vector<Raster> ras(nc);
-  std::vector<cv::Mat> gx(nc), gy(nc), clean(nc);
+  std::vector<Raster> own(rasters.empty() ? nc : 0);
+  std::vector<const Raster*> rp = rasters;
+  if (rasters.empty()) {
+    TriMesh tm;
+    tm.V = V;
+    tm.F = F;
 #pragma omp parallel for schedule(dynamic, 1)
-  for (int i = 0; i < nc; ++i) {
-    RasterOptions ro;
-    ro.cull_back = true;  // a closed outward mesh: back faces are hidden
-    ras[i] = rasterize(tm, cams[i], ro);
-    clean[i] = clean_pixels(ras[i], cams[i].focal());
-    image_gradients(views[i].grey, gx[i], gy[i]);
+    for (int i = 0; i < nc; ++i) {
+      RasterOptions ro;
+      ro.cull_back = true;  // a closed outward mesh: back faces are hidden
+      own[i] = rasterize(tm, cams[i], ro);
+    }
+    for (int i = 0; i < nc; ++i) rp.push_back(&own[i]);
   }
+  std::vector<cv::Mat> clean(nc);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int i = 0; i < nc; ++i) clean[i] = clean_pixels(*rp[i], cams[i].focal());
 
   std::vector<Slot> slots(kSlots);
   const int hw = window / 2;
@@ -266,7 +289,7 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
     std::vector<std::uint8_t> valid;
     for (int i = s; i < nc; i += kSlots) {
       if (partners[i].empty()) continue;
-      const ViewPixels P = view_pixels(ras[i], clean[i], views[i].grey, cams[i], fn, fd, hw);
+      const ViewPixels P = view_pixels(*rp[i], clean[i], views[i].grey, cams[i], fn, fd, hw);
       const size_t np = P.size();
       if (np == 0) continue;
       J.assign(np, 0.f);
@@ -287,7 +310,7 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
           if (!(u >= 1 && v >= 1 && u < vj.width - 2 && v < vj.height - 2)) continue;
           const int ui = static_cast<int>(std::lround(u)), vi = static_cast<int>(std::lround(v));
           if (!clean[j].at<std::uint8_t>(vi, ui)) continue;
-          if (!(ph.z() <= ras[j].depth.at<float>(vi, ui) + kDepthTolPx * ph.z() * vj.inv_focal)) continue;
+          if (!(ph.z() <= rp[j]->depth.at<float>(vi, ui) + kDepthTolPx * ph.z() * vj.inv_focal)) continue;
           const Eigen::Vector3d dp = Pj.leftCols<3>() * P.ray[k];
           const double dudt = (dp.x() - u * dp.z()) / ph.z(), dvdt = (dp.y() - v * dp.z()) / ph.z();
           J[k] = bilinear(vj.grey, u, v);

@@ -24,12 +24,14 @@
 // slots, each in view order, and the slots are summed in order.
 #pragma once
 #include <Eigen/Core>
+#include <opencv2/core.hpp>
 #include <cstdint>
 #include <vector>
 
 #include "common/camera.h"
 #include "common/deform/topology.h"
 #include "common/photo/views.h"
+#include "common/trimesh/raster.h"
 
 namespace tetmvs::deform {
 
@@ -40,12 +42,24 @@ struct PhotometricGradient {
   double mean_ncc = 0;         // mean NCC over the windows used
 };
 
-// views and cams: one image-pyramid level (cams: reduced_cameras of the same level).
+// One image-pyramid level of the photometric force: the views' images reduced `level`
+// times (photo::Views::reduced), their cameras (reduced_cameras) and image gradients
+// (central differences, CV_32F), made once per level.
+struct PhotoLevel {
+  int level = 0;
+  photo::Views views;
+  std::vector<Camera> cams;
+  std::vector<cv::Mat> gx, gy;
+};
+PhotoLevel make_photo_level(const photo::Views& full, const std::vector<Camera>& cams, int level);
+
 // partners[i]: the views compared with view i. N: unit vertex normals. window: odd, >= 3.
+// rasters: the mesh rasterised in every view of this level with back faces culled, when
+// the caller has them (deform's own rasters at level 0); empty: rasterised here.
 PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F,
-                                         const std::vector<Eigen::Vector3d>& N, const photo::Views& views,
-                                         const std::vector<Camera>& cams,
-                                         const std::vector<std::vector<int>>& partners, int window);
+                                         const std::vector<Eigen::Vector3d>& N, const PhotoLevel& lv,
+                                         const std::vector<std::vector<int>>& partners, int window,
+                                         const std::vector<const Raster*>& rasters = {});
 
 // Per vertex, the step along its normal (world units) toward the minimum of the energy:
 // g and h averaged over 2 x 2^level 1-rings (about a pixel of the level's images on a mesh

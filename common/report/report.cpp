@@ -1,4 +1,5 @@
 #include "common/report/report.h"
+#include "common/trimesh/roughness.h"
 
 #include <algorithm>
 #include <fstream>
@@ -147,13 +148,15 @@ std::string build_report(const Options& o) {
   // ---- metrics
   h << "<h2>Results</h2>\n<table><tr><th>surface</th><th>faces</th><th>components</th><th>closed</th>"
     << "<th>silhouette IoU (mean)</th><th>boundary error px (mean / 95%)</th><th>accuracy 90% (mm)</th>"
-    << "<th>completeness 1.25 mm</th><th>wrong labels: interior / exterior cells (wholly)</th></tr>\n";
+    << "<th>completeness 1.25 mm</th><th>roughness (mm, median / 90%)</th>"
+    << "<th>wrong labels: interior / exterior cells (wholly)</th></tr>\n";
   std::vector<std::pair<std::string, TriMesh>> surfaces;
   for (const char* name : {"cut1", "cut2", "final"}) {
     const fs::path ply = R / (std::string(name) + ".ply");
     if (!fs::exists(ply)) continue;
     TriMesh m = read_ply(ply);
     const auto ag = silhouette_agreement(m, scene);
+    const Roughness rough = surface_roughness(m, o.roughness_radius_px * pixel_size_at_object(m, scene.cams));
     h << "<tr><td>" << name << ".ply</td><td class=num>" << m.nf() << "</td>";
     std::string comps = "-", closed = "-", acc = "-", comp = "-", wrong = "-";
     const fs::path ev = R / ("eval_" + std::string(name) + ".json");
@@ -189,7 +192,9 @@ std::string build_report(const Options& o) {
     }
     h << "<td>" << esc(comps) << "</td><td>" << esc(closed) << "</td><td class=num>" << fmt(ag.mean_iou, 4)
       << "</td><td class=num>" << fmt(ag.mean_boundary_px, 3) << " / " << fmt(ag.p95_boundary_px, 3)
-      << "</td><td class=num>" << acc << "</td><td class=num>" << comp << "</td><td class=num>" << esc(wrong)
+      << "</td><td class=num>" << acc << "</td><td class=num>" << comp << "</td><td class=num>"
+      << (rough.samples > 0 ? fmt(rough.median * 1000, 4) + " / " + fmt(rough.p90 * 1000, 4) : std::string("-"))
+      << "</td><td class=num>" << esc(wrong)
       << "</td></tr>\n";
     surfaces.emplace_back(name, std::move(m));
   }

@@ -10,6 +10,7 @@ namespace tetmvs::report {
 struct Options {
   std::filesystem::path run_dir;
   std::string title;
+  double roughness_radius_px = 5;  // eval.roughness_radius_px
 };
 
 // Builds the page; returns its HTML text.

@@ -20,6 +20,7 @@
 #include "common/stage.h"
 #include "common/tetmesh/mesh_io.h"
 #include "common/trimesh/evaluate.h"
+#include "common/trimesh/roughness.h"
 
 namespace fs = std::filesystem;
 
@@ -150,7 +151,11 @@ int main(int argc, char** argv) {
       check_memory_budget(p, bytes, what.str(), "raise eval.sample_spacing, or give --size");
     }
     const EvalResult r = evaluate(rec, g, cams, o);
+    const double radius_px = p.d("eval.roughness_radius_px");
+    const Roughness rough = surface_roughness(rec, radius_px * pixel_size_at_object(rec, cams));
     nlohmann::json j = to_json(r);
+    j["roughness"] = {{"radius", rough.radius}, {"radius_px", radius_px}, {"samples", rough.samples},
+                      {"median", rough.median}, {"p90", rough.p90}};
     j["inputs"] = {{"mesh", mesh}, {"gt", gt}, {"cameras", cameras}};
     if (truth) {
       j["labels"] = label::to_json(*truth);
@@ -173,6 +178,7 @@ int main(int argc, char** argv) {
         if (rr.completeness.visible_samples < rr.completeness.gt_samples)  // part unseen: also over all of it
           s << " (all " << 100 * rr.completeness.within_all << "%, seen " << 100.0 * rr.completeness.visible_samples / rr.completeness.gt_samples << "%)";
       }
+    s << " roughness=" << rough.median << " (radius " << rough.radius << ")";
     if (truth)
       s << " wrong labels: " << truth->interior.wrong << " interior (" << truth->interior.wrong_whole << " wholly), "
         << truth->exterior.wrong << " exterior (" << truth->exterior.wrong_whole << " wholly)";

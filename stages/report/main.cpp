@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
     if (out.empty()) check_output_paths({{"--out (default)", target, false}}, {});
     report::Options o;
     o.run_dir = run;
+    o.roughness_radius_px = ctx.params.d("eval.roughness_radius_px");
     o.title = title.empty() ? "tetmvs run: " + fs::path(run).filename().string() : title;
     const std::string html = report::build_report(o);
     write_text_atomic(target, html);

@@ -88,11 +88,23 @@ std::vector<double> photometric_steps_px(const DeformScene& d, double out_px, in
   const std::vector<Eigen::Vector3d> gn = deform::vertex_normals(d.gt.V, d.gt.F);
   std::vector<Eigen::Vector3d> V = d.gt.V;
   for (size_t v = 0; v < V.size(); ++v) V[v] += out_px * d.px * gn[v];
-  const photo::Views views = photo::Views(d.scene.cams, d.scene.grey).reduced(level);
-  const auto cams = deform::reduced_cameras(d.scene.cams, level);
+  const deform::PhotoLevel lv = deform::make_photo_level(photo::Views(d.scene.cams, d.scene.grey), d.scene.cams, level);
   const auto partners = deform::photometric_partners(d.scene.cams, d.scene.box.center(), 10, 40, 4);
-  const deform::PhotometricGradient g = deform::photometric_gradient(V, d.gt.F, gn, views, cams, partners, 7);
+  const deform::PhotometricGradient g = deform::photometric_gradient(V, d.gt.F, gn, lv, partners, 7);
   EXPECT_GT(g.pixels, 0);
+  if (level == 0 && out_px == 0) {  // deform's own rasters give the same gradient
+    TriMesh tm;
+    tm.V = V;
+    tm.F = d.gt.F;
+    std::vector<deform::ViewRaster> vr;
+    for (const auto& c : d.scene.cams) vr.push_back(deform::rasterize_view(tm, c, cv::Mat()));
+    std::vector<const Raster*> rp;
+    for (const auto& r : vr) rp.push_back(&r.raster);
+    const deform::PhotometricGradient g2 = deform::photometric_gradient(V, d.gt.F, gn, lv, partners, 7, rp);
+    EXPECT_EQ(g2.pixels, g.pixels);
+    EXPECT_EQ(g2.grad, g.grad);
+    EXPECT_EQ(g2.hess, g.hess);
+  }
   const deform::Topology topo = deform::build_topology(d.gt.F, static_cast<int>(V.size()));
   std::vector<double> step = deform::photometric_steps(g, topo, level, std::vector<double>(V.size(), d.px));
   for (double& x : step) x /= d.px;

@@ -266,6 +266,27 @@ TEST(Params, DefaultsAreDocumentedAndOverridesAreChecked) {
   EXPECT_EQ(p.values_for("ingest").size(), p.keys_for("ingest").size());
 }
 
+// Every parameter has a tier; --help lists the paper's and the extensions' parameters, and
+// the expert ones only with --help-all.
+TEST(Params, TiersDecideWhatHelpShows) {
+  const Params p = Params::defaults();
+  int paper = 0, expert = 0;
+  for (auto& [k, decl] : p.table().items()) {
+    const std::string t = decl["tier"].get<std::string>();
+    EXPECT_TRUE(t == "paper" || t == "extension" || t == "expert") << k;
+    paper += t == "paper";
+    expert += t == "expert";
+  }
+  EXPECT_GE(paper, 10);
+  EXPECT_GT(expert, 0);
+  const std::string brief = p.help_for("photoconsist"), all = p.help_for("photoconsist", true);
+  EXPECT_NE(brief.find("photo.T = "), std::string::npos);          // paper
+  EXPECT_NE(brief.find("photo.detrend = "), std::string::npos);    // extension
+  EXPECT_EQ(brief.find("photo.occl_bin_px = "), std::string::npos);  // expert
+  EXPECT_NE(all.find("photo.occl_bin_px = "), std::string::npos);
+  EXPECT_NE(brief.find("--help-all"), std::string::npos);
+}
+
 // Every settings file shipped in examples/params/ (loaded automatically for DATA=<its name>)
 // names only known parameters with valid values and says why in its _comment.
 TEST(Params, ShippedSettingsFilesLoad) {

@@ -2,10 +2,12 @@
 
 #include <cmath>
 
+#include "common/error.h"
 #include "common/synth/objects.h"
 #include "common/trimesh/bvh.h"
 #include "common/trimesh/check.h"
 #include "common/trimesh/rng.h"
+#include "common/trimesh/roughness.h"
 #include "common/trimesh/sample.h"
 
 using namespace tetmvs;
@@ -162,4 +164,40 @@ TEST(TriMesh, RaycastHitsTheSphere) {
   EXPECT_NEAR(h.t, 5 - std::sqrt(1 - 0.05), 2e-3);
   EXPECT_LT(bvh.raycast({0, 0, -5}, {0, 0, 1}, 0, 3.9).face, 0);  // stops before the sphere
   EXPECT_LT(bvh.raycast({2, 0, -5}, {0, 0, 1}).face, 0);          // misses
+}
+
+TEST(TriMesh, RoughnessOfASmoothAndANoisySphere) {
+  // unit sphere, edges of 0.02; a ball of radius 0.1 holds ~90 vertices
+  TriMesh m = synth::make_sphere(0.02);
+  const double r = 0.1;
+  const Roughness smooth = surface_roughness(m, r);
+  const double cap = r * r / (4 * std::sqrt(3.0));  // RMS of a sphere cap about its plane (R = 1)
+  EXPECT_GT(smooth.samples, 1000);
+  EXPECT_NEAR(smooth.median, cap, 0.15 * cap);
+  // vertices moved along their normal by uniform noise in [-a, a]: RMS a / sqrt(3) more
+  const double a = 0.01;
+  for (std::size_t v = 0; v < m.nv(); ++v) {
+    Rng g(7, v);
+    m.V[v] *= 1 + a * (2 * g.uniform() - 1);
+  }
+  const Roughness noisy = surface_roughness(m, r);
+  const double want = std::hypot(cap, a / std::sqrt(3.0));
+  EXPECT_NEAR(noisy.median, want, 0.1 * want);
+  EXPECT_GT(noisy.p90, noisy.median);
+  // the same answer again (deterministic) and at most max_samples samples
+  EXPECT_EQ(surface_roughness(m, r).median, noisy.median);
+  EXPECT_LE(surface_roughness(m, r, 100).samples, 100);
+  EXPECT_THROW(surface_roughness(m, 0), Error);
+}
+
+TEST(TriMesh, PixelSizeAtTheObjectIsDistanceOverFocal) {
+  const TriMesh m = synth::make_sphere(0.2);
+  std::vector<Camera> cams(3);
+  const double dist[3] = {4, 5, 9};
+  for (int i = 0; i < 3; ++i) {
+    cams[i].R = Eigen::Matrix3d::Identity();
+    cams[i].t = Eigen::Vector3d(0, 0, dist[i]);  // centre (0, 0, -dist)
+    cams[i].K << 1000, 0, 320, 0, 1000, 240, 0, 0, 1;
+  }
+  EXPECT_NEAR(pixel_size_at_object(m, cams), 5.0 / 1000, 1e-3 / 1000);  // the median camera
 }
