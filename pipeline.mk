@@ -123,8 +123,8 @@ args = $(call set_args,$(1)) $(STAGE_FLAGS)
 
 # --- the number of levels (LEVELS=auto) ---------------------------------------------------
 # levels.mk is made from the scene (after ingest) and make then re-reads this file with it,
-# before any level is made. A dry run (make -n) makes nothing: it reads a levels.mk already
-# there, else asks bcc-init about an ingested scene, else plans with 3 levels and says so.
+# before any level is made. A dry run (make -n) makes nothing: it asks bcc-init about the
+# ingested scene with the parameters given, else (no scene yet) plans 3 levels and says so.
 ifeq ($(LEVELS)$(filter help clean,$(MAKECMDGOALS)),auto)
 LEVELS_MK := $(RUN_DIR)/levels.mk
 ifeq ($(findstring n,$(filter-out --%,$(firstword -$(MAKEFLAGS)))),)
@@ -133,21 +133,20 @@ $(LEVELS_MK): $(RUN_DIR)/scene.h5 $(STAMPS)/bcc-init.args | programs
 	@n=$$(TETMVS_LOG= $(BIN)/bcc-init --scene $< --print-levels --quiet $(call args,bcc-init)) && \
 	  if [ "$$n" -lt 1 ]; then n=1; elif [ "$$n" -gt 12 ]; then \
 	    echo "pipeline.mk: $$n levels would reach refine.target_pixels, more than 12: give LEVELS or a larger TARGET_PIXELS" >&2; exit 1; fi && \
-	  echo "LEVELS := $$n" > $@.tmp && mv -f $@.tmp $@ && \
+	  echo "LEVELS_AUTO := $$n" > $@.tmp && mv -f $@.tmp $@ && \
 	  $(if $(QUIET),true,echo "pipeline.mk: LEVELS=$$n (finest cells of at most refine.target_pixels in every view)")
 else
--include $(LEVELS_MK)
-ifeq ($(LEVELS),auto)
-LEVELS := $(if $(wildcard $(RUN_DIR)/scene.h5),$(shell TETMVS_LOG= '$(BIN)/bcc-init' --scene '$(RUN_DIR)/scene.h5' --print-levels --quiet $(call args,bcc-init) 2>/dev/null))
-ifeq ($(LEVELS),)
-LEVELS := 3
+LEVELS_AUTO := $(if $(wildcard $(RUN_DIR)/scene.h5),$(shell TETMVS_LOG= '$(BIN)/bcc-init' --scene '$(RUN_DIR)/scene.h5' --print-levels --quiet $(call args,bcc-init) 2>/dev/null))
+ifeq ($(LEVELS_AUTO),)
+LEVELS_AUTO := 3
 $(info pipeline.mk: the number of levels follows from the scene, not yet ingested: this plan shows 3)
 endif
 endif
 endif
-endif
-# (1 before levels.mk exists: make re-reads this file once it is made, before making any level)
-LEVEL_COUNT := $(if $(filter auto 0,$(LEVELS)),1,$(LEVELS))
+# (LEVELS_AUTO comes from levels.mk, not LEVELS, which a command line's LEVELS=auto would
+# hold fixed; 1 before levels.mk exists: make re-reads this file once it is made, before
+# making any level)
+LEVEL_COUNT := $(if $(filter auto,$(LEVELS)),$(if $(filter-out 0,$(LEVELS_AUTO)),$(LEVELS_AUTO),1),$(LEVELS))
 
 # --- programs ---------------------------------------------------------------------------
 .PHONY: programs
