@@ -33,9 +33,12 @@ ifneq ($(COLMAP_WS),)
 endif
 SYNTH_DIR ?= $(ROOT)/data
 RUN_DIR   ?= $(ROOT)/runs/$(DATA)
-# Refinement levels. 3 gives cells of about 4 px on dinoRing-sized scenes (the paper: 1-5 px);
-# LEVELS=4 gives about 2 px (`bcc-init --print-levels` computes it) but takes several times longer.
-LEVELS    ?= 3
+# Refinement levels: by default (auto) as many as bring the finest cells to TARGET_PIXELS
+# (refine.target_pixels) in every view, computed from the scene once it is ingested
+# (`bcc-init --print-levels`, kept in $(RUN_DIR)/levels.mk), so that 640 x 480 and
+# 1600 x 1200 photos share one default (dinoRing: 3 levels, cells of about 4 px).
+# LEVELS=N fixes the number (dinoRing: LEVELS=4 gives about 2 px but takes several times longer).
+LEVELS    ?= auto
 # Optional JSON file of parameter overrides; a dataset's examples/params/<DATA>.json by default.
 PARAMS    ?= $(wildcard $(ROOT)/examples/params/$(DATA).json)
 QUIET     ?=
@@ -60,8 +63,8 @@ MIDDLEBURY := dinoRing templeRing dinoSparseRing templeSparseRing
 
 # --- the variables, checked before anything is made ----------------------------------------
 ifeq ($(filter help help-all clean,$(MAKECMDGOALS)),)
-ifneq ($(words $(LEVELS)) $(filter $(LEVELS),1 2 3 4 5 6 7 8 9 10 11 12),1 $(LEVELS))
-$(error LEVELS='$(LEVELS)': give the number of refinement levels, a whole number from 1 to 12)
+ifneq ($(words $(LEVELS)) $(filter $(LEVELS),auto 1 2 3 4 5 6 7 8 9 10 11 12),1 $(LEVELS))
+$(error LEVELS='$(LEVELS)': give the number of refinement levels, a whole number from 1 to 12, or auto)
 endif
 endif
 ifneq ($(words $(DATA)) $(words $(RUN_DIR)),1 1)
@@ -117,6 +120,33 @@ ifeq ($(filter help help-all clean,$(MAKECMDGOALS)),)
 _stamps := $(foreach s,$(ALL_STAGES),$(shell mkdir -p '$(STAMPS)' && printf '%s\n' '$(call stamp_text,$(s))' > '$(STAMPS)/$(s).args.new' && { cmp -s '$(STAMPS)/$(s).args.new' '$(STAMPS)/$(s).args' && rm -f '$(STAMPS)/$(s).args.new' || mv -f '$(STAMPS)/$(s).args.new' '$(STAMPS)/$(s).args'; }))
 endif
 args = $(call set_args,$(1)) $(STAGE_FLAGS)
+
+# --- the number of levels (LEVELS=auto) ---------------------------------------------------
+# levels.mk is made from the scene (after ingest) and make then re-reads this file with it,
+# before any level is made. A dry run (make -n) makes nothing: it asks bcc-init about the
+# ingested scene with the parameters given, else (no scene yet) plans 3 levels and says so.
+ifeq ($(LEVELS)$(filter help help-all clean,$(MAKECMDGOALS)),auto)
+LEVELS_MK := $(RUN_DIR)/levels.mk
+ifeq ($(findstring n,$(filter-out --%,$(firstword -$(MAKEFLAGS)))),)
+include $(LEVELS_MK)
+$(LEVELS_MK): $(RUN_DIR)/scene.h5 $(STAMPS)/bcc-init.args | programs
+	@n=$$(TETMVS_LOG= $(BIN)/bcc-init --scene $< --print-levels --quiet $(call args,bcc-init)) && \
+	  if [ "$$n" -lt 1 ]; then n=1; elif [ "$$n" -gt 12 ]; then \
+	    echo "pipeline.mk: $$n levels would reach refine.target_pixels, more than 12: give LEVELS or a larger TARGET_PIXELS" >&2; exit 1; fi && \
+	  echo "LEVELS_AUTO := $$n" > $@.tmp && mv -f $@.tmp $@ && \
+	  $(if $(QUIET),true,echo "pipeline.mk: LEVELS=$$n (finest cells of at most refine.target_pixels in every view)")
+else
+LEVELS_AUTO := $(if $(wildcard $(RUN_DIR)/scene.h5),$(shell TETMVS_LOG= '$(BIN)/bcc-init' --scene '$(RUN_DIR)/scene.h5' --print-levels --quiet $(call args,bcc-init) 2>/dev/null))
+ifeq ($(LEVELS_AUTO),)
+LEVELS_AUTO := 3
+$(info pipeline.mk: the number of levels follows from the scene, not yet ingested: this plan shows 3)
+endif
+endif
+endif
+# (LEVELS_AUTO comes from levels.mk, not LEVELS, which a command line's LEVELS=auto would
+# hold fixed; 1 before levels.mk exists: make re-reads this file once it is made, before
+# making any level)
+LEVEL_COUNT := $(if $(filter auto,$(LEVELS)),$(if $(filter-out 0,$(LEVELS_AUTO)),$(LEVELS_AUTO),1),$(LEVELS))
 
 # --- programs ---------------------------------------------------------------------------
 .PHONY: programs
@@ -179,7 +209,7 @@ $(RUN_DIR)/mesh_0.h5: $(RUN_DIR)/scene.h5 $(STAMPS)/bcc-init.args | programs
 # Level i: photoconsist finds the crossing faces of mesh_i (pc_i.h5, with the face cache
 # handed down from pc_{i-1}); refine red-green refines the active cells -> mesh_{i+1}.
 NUMS := 0 1 2 3 4 5 6 7 8 9 10 11 12
-LEVEL_IDS := $(wordlist 1,$(LEVELS),$(NUMS))
+LEVEL_IDS := $(wordlist 1,$(LEVEL_COUNT),$(NUMS))
 prev = $(word $(1),$(NUMS))
 define LEVEL_RULES
 $(RUN_DIR)/pc_$(1).h5: $(RUN_DIR)/scene.h5 $(RUN_DIR)/mesh_$(1).h5 $(if $(filter 0,$(1)),,$(RUN_DIR)/pc_$(call prev,$(1)).h5) $(STAMPS)/photoconsist.args | programs
@@ -188,8 +218,8 @@ $(RUN_DIR)/mesh_$(word $(shell echo $$(($(1)+2))),$(NUMS)).h5: $(RUN_DIR)/mesh_$
 	$(BIN)/refine --mesh $(RUN_DIR)/mesh_$(1).h5 --active $(RUN_DIR)/pc_$(1).h5 --out $$@ --slice-png $$(basename $$@)_slice.png $$(call args,refine)
 endef
 $(foreach i,$(LEVEL_IDS),$(eval $(call LEVEL_RULES,$(i))))
-FINAL_MESH := $(RUN_DIR)/mesh_$(LEVELS).h5
-LAST_PC    := $(RUN_DIR)/pc_$(word $(LEVELS),$(NUMS)).h5
+FINAL_MESH := $(RUN_DIR)/mesh_$(LEVEL_COUNT).h5
+LAST_PC    := $(RUN_DIR)/pc_$(word $(LEVEL_COUNT),$(NUMS)).h5
 levels: $(FINAL_MESH)
 
 # Face scores of the final mesh (for the cut) and the quasi-dense points Q.

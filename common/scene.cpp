@@ -6,6 +6,7 @@
 #include "common/error.h"
 #include "common/h5io.h"
 #include "common/image.h"
+#include "common/silhouette/border.h"
 
 namespace tetmvs {
 
@@ -22,8 +23,8 @@ void Scene::load_grey() {
 
 bool Scene::in_silhouette(int v, double u, double vv, bool outside_value) const {
   if (sil[v].empty()) return outside_value;
-  const int x = static_cast<int>(std::lround(u)), y = static_cast<int>(std::lround(vv));
-  if (x < 0 || y < 0 || x >= sil[v].cols || y >= sil[v].rows) return outside_value;
+  int x, y;  // outside the image the view says nothing (common/silhouette/border.h)
+  if (!silhouette::nearest_pixel_in_image(Eigen::Vector2d(u, vv), sil[v].cols, sil[v].rows, x, y)) return outside_value;
   return sil[v].at<std::uint8_t>(y, x) != 0;
 }
 

@@ -6,16 +6,15 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/image.h"
+#include "common/silhouette/border.h"
 #include "common/trimesh/raster.h"
 
 namespace tetmvs::deform {
 
 cv::Mat signed_distance(const cv::Mat& mask) {
   cv::Mat obj = mask > 127, bg = mask <= 127;
-  cv::Mat d_in, d_out;
-  // distanceTransform: distance of each non-zero pixel to the nearest zero pixel
-  cv::distanceTransform(obj, d_in, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  cv::distanceTransform(bg, d_out, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  // distances to the outline, which the image border is not (common/silhouette/border.h)
+  const cv::Mat d_in = silhouette::distance_inside(obj), d_out = silhouette::distance_outside(obj);
   cv::Mat sd(mask.size(), CV_32F);
   const bool any_obj = cv::countNonZero(obj) > 0, any_bg = cv::countNonZero(bg) > 0;
   const float big = static_cast<float>(mask.cols + mask.rows);

@@ -744,8 +744,8 @@ Scene read_scene(const Layout& l, const Params& p) {
       s.rgb[v] = undistort(rgb, ph);
       s.cams[v] = camera_of(m, im);
       if (sils) {
-        const fs::path mf = sildir / im.name;
-        if (fs::exists(mf)) {
+        if (const auto found = find_mask(sildir, im.name)) {
+          const fs::path& mf = *found;
           cv::Mat mask = load_mask(mf);
           if (mask.size() != rgb.size())
             fail(mf.string(), ": mask is ", mask.cols, "x", mask.rows, " but its image is ", rgb.cols, "x", rgb.rows);

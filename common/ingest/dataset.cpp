@@ -16,6 +16,7 @@
 #include "common/ingest/colmap.h"
 #include "common/log.h"
 #include "common/par_io.h"
+#include "common/silhouette/border.h"
 
 namespace tetmvs {
 namespace fs = std::filesystem;
@@ -254,13 +255,20 @@ void check_images_budget(const Params& p, const std::vector<fs::path>& images) {
   check_memory_budget(p, 9.0 * pixels, what.str(), "use smaller images or fewer views");
 }
 
+std::optional<fs::path> find_mask(const fs::path& sildir, const std::string& image_name) {
+  const fs::path own = sildir / image_name;
+  for (const fs::path& f : {own, fs::path(own).replace_extension(".png"), fs::path(own.string() + ".png")})
+    if (fs::is_regular_file(f)) return f;
+  return std::nullopt;
+}
+
 void warn_missing_masks(const fs::path& sildir, const std::vector<std::string>& missing, int views) {
   if (missing.empty()) return;
   std::string names;
   for (std::size_t i = 0; i < missing.size() && i < 5; ++i) names += (i ? ", " : "") + missing[i];
   if (missing.size() > 5) names += ", ...";
   warn(sildir.string(), ": no mask for ", missing.size(), " of ", views, " views (", names,
-       "): they carry no silhouette");
+       "; looked for the image's name, its stem with .png and its name with .png): they carry no silhouette");
 }
 
 Scene read_dataset(const fs::path& dir, const Params& p) {
@@ -311,11 +319,12 @@ Scene read_dataset(const fs::path& dir, const Params& p) {
     if (has_list && !good.count(s.cams[v].name)) continue;
     try {
       if (given) {
-        const fs::path mf = sildir / s.cams[v].name;
-        if (!fs::exists(mf)) {  // a view without a mask carries no silhouette
+        const auto found = find_mask(sildir, s.cams[v].name);
+        if (!found) {  // a view without a mask carries no silhouette
           no_mask[v] = 1;
           continue;
         }
+        const fs::path& mf = *found;
         cv::Mat m = load_mask(mf);
         if (m.size() != s.rgb[v].size())
           fail(mf.string(), ": mask is ", m.cols, "x", m.rows, " but its image is ", s.rgb[v].cols,
@@ -394,10 +403,11 @@ cv::Mat contact_sheet(const Scene& s, int thumb_width) {
   cv::Mat sheet(rows * (th + 16), cols * tw, CV_8UC3, cv::Scalar(40, 40, 40));
   for (int v = 0; v < n; ++v) {
     cv::Mat img = s.rgb[v].clone();
-    if (s.has_silhouette(v)) {
-      std::vector<std::vector<cv::Point>> contours;
-      cv::findContours(s.sil[v].clone(), contours, cv::RETR_LIST, cv::CHAIN_APPROX_NONE);
-      cv::drawContours(img, contours, -1, cv::Scalar(0, 255, 0), std::max(2, int(1.5 / scale)));
+    if (s.has_silhouette(v)) {  // its outline (not the image border: common/silhouette/border.h)
+      cv::Mat line = silhouette::outline(s.sil[v]);
+      const int r = std::max(1, int(0.75 / scale));
+      cv::dilate(line, line, cv::getStructuringElement(cv::MORPH_RECT, {2 * r + 1, 2 * r + 1}));
+      img.setTo(cv::Scalar(0, 255, 0), line);
     }
     cv::Mat small;
     cv::resize(img, small, {tw, th}, 0, 0, cv::INTER_AREA);

@@ -1,7 +1,7 @@
 // Reading a dataset folder (Middlebury layout) into a Scene.
 //
 // A folder holds exactly one <prefix>_par.txt; the images it names; optionally
-// silhouettes/ with same-named masks (255 = object); optionally
+// silhouettes/ with masks (255 = object) named as find_mask says; optionally
 // <prefix>_good_silhouette_images.txt (only those views get a silhouette); optionally a
 // Middlebury README.txt stating the bounding box, or bbox.txt (two lines: min, max).
 #pragma once
@@ -56,6 +56,12 @@ Eigen::AlignedBox3d camera_search_region(const std::vector<Camera>& cams);
 // memory budget holds for ingest (about 9 bytes a pixel: the RGB image, its silhouette and
 // the copies written), naming the largest.
 void check_images_budget(const Params& p, const std::vector<std::filesystem::path>& images);
+
+// The mask of the image `image_name` (a name relative to the image folder) in `sildir`, by the
+// common conventions in this order: the image's own name (Middlebury), its stem with .png
+// (DTU, IDR/NeuS: `a.jpg` -> `a.png`), the name with .png appended (COLMAP: `a.jpg.png`).
+// Nothing when none of them is a file.
+std::optional<std::filesystem::path> find_mask(const std::filesystem::path& sildir, const std::string& image_name);
 
 // A warning naming the views of a dataset with a silhouettes/ folder that have no mask
 // there (they carry no silhouette); none when every view that should have one has it.

@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "common/silhouette/border.h"
 
 namespace tetmvs::photoconsist {
 
@@ -33,9 +34,7 @@ HullTest::HullTest(const photo::Views& views, const std::vector<cv::Mat>& sil, d
     cv::integral(bin, ii, CV_32S);
     integral_.push_back(ii);
     if (core_px > 0) {
-      cv::Mat dist;
-      cv::distanceTransform(sil[v], dist, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-      core_.push_back(dist >= core_px);
+      core_.push_back(silhouette::distance_inside(sil[v]) >= core_px);
     }
   }
 }
@@ -56,11 +55,7 @@ bool HullTest::pixel(std::size_t s, const Eigen::Vector3d& X, int& x, int& y) co
   const photo::View& v = (*views_)[idx_[s]];
   const Eigen::Vector3d h = v.project_h(X);
   if (!(h.z() > 0)) return false;
-  const long lx = std::lround(h.x() / h.z()), ly = std::lround(h.y() / h.z());
-  if (lx < 0 || ly < 0 || lx >= v.width || ly >= v.height) return false;
-  x = static_cast<int>(lx);
-  y = static_cast<int>(ly);
-  return true;
+  return silhouette::nearest_pixel_in_image(Eigen::Vector2d(h.x() / h.z(), h.y() / h.z()), v.width, v.height, x, y);
 }
 
 bool HullTest::inside(const Eigen::Vector3d& X) const {

@@ -2,7 +2,8 @@
 // some view with a silhouette, it lies in front of the camera, projects inside the image
 // and falls outside that silhouette dilated by a margin (pixels). Views without a
 // silhouette and views the point projects outside of never exclude it. The true surface
-// is inside the hull, so points outside it cannot be on the surface.
+// is inside the hull, so points outside it cannot be on the surface. (The image border is
+// not an outline: common/silhouette/border.h.)
 #pragma once
 #include <Eigen/Core>
 #include <opencv2/core.hpp>

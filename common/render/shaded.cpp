@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "common/silhouette/border.h"
 #include "common/trimesh/raster.h"
 
 namespace tetmvs {
@@ -61,7 +62,9 @@ SilhouetteAgreement silhouette_agreement(const TriMesh& m, const Scene& s) {
     const double inter = cv::countNonZero(mine & truth), uni = cv::countNonZero(mine | truth);
     a.views.push_back(v);
     a.iou.push_back(uni > 0 ? inter / uni : 1.0);
+    a.cut_by_border.push_back(silhouette::touches_border(truth));
     // boundary distance: pixels of my silhouette's boundary, distance to the true boundary
+    // (the morphological gradient leaves the image border out, as silhouette::outline does)
     cv::Mat tb, mb;
     cv::morphologyEx(truth, tb, cv::MORPH_GRADIENT, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
     cv::morphologyEx(mine, mb, cv::MORPH_GRADIENT, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
@@ -75,6 +78,11 @@ SilhouetteAgreement silhouette_agreement(const TriMesh& m, const Scene& s) {
     double sum = 0;
     for (double x : a.iou) sum += x;
     a.mean_iou = sum / a.iou.size();
+    double in_sum = 0;
+    int in_views = 0;
+    for (std::size_t k = 0; k < a.iou.size(); ++k)
+      if (!a.cut_by_border[k]) in_sum += a.iou[k], ++in_views;
+    if (in_views > 0) a.mean_iou_inside = in_sum / in_views;
   }
   if (!bd.empty()) {
     double sum = 0;

@@ -24,12 +24,15 @@ std::vector<int> spread_views(int num_cameras, int count = 4);
 struct SilhouetteAgreement {
   std::vector<int> views;       // views with a silhouette
   std::vector<double> iou;      // per view
+  std::vector<char> cut_by_border;  // per view: the true silhouette touches the image border
   double mean_iou = 0;
+  double mean_iou_inside = -1;  // over the views whose silhouette lies inside the image (-1: none)
   double mean_boundary_px = 0;  // mean distance from the mesh silhouette's boundary to the true one
   double p95_boundary_px = 0;
 };
 
-// Compares the mesh's rendered silhouette with each valid silhouette of the scene.
+// Compares the mesh's rendered silhouette with each valid silhouette of the scene, inside the
+// image (the image border is not an outline: common/silhouette/border.h).
 SilhouetteAgreement silhouette_agreement(const TriMesh& m, const Scene& s);
 
 }  // namespace tetmvs

@@ -59,22 +59,31 @@ std::string esc(const std::string& s) {
   return o;
 }
 
-std::string img_tag(const cv::Mat& rgb, const std::string& caption, int max_width = 1200) {
+// Pictures are thumbnails a browser shows at once: one view at most kViewWidth pixels wide,
+// a sheet of views at most kSheetWidth, each as PNG or JPEG, whichever is smaller (flat
+// colours: PNG; photos: JPEG).
+constexpr int kViewWidth = 640, kSheetWidth = 1280;
+
+std::string img_tag(const cv::Mat& rgb, const std::string& caption, int max_width = kViewWidth) {
   cv::Mat bgr, small = rgb;
-  if (rgb.cols > max_width) cv::resize(rgb, small, {max_width, rgb.rows * max_width / rgb.cols}, 0, 0, cv::INTER_AREA);
+  if (rgb.cols > max_width)
+    cv::resize(rgb, small, {max_width, std::max(1, rgb.rows * max_width / rgb.cols)}, 0, 0, cv::INTER_AREA);
   cv::cvtColor(small, bgr, cv::COLOR_RGB2BGR);
-  std::vector<uchar> buf;
-  cv::imencode(".png", bgr, buf);
-  return "<figure><img src=\"data:image/png;base64," + base64(std::string(buf.begin(), buf.end())) +
-         "\"><figcaption>" + esc(caption) + "</figcaption></figure>\n";
+  std::vector<uchar> png, jpg;
+  cv::imencode(".png", bgr, png);
+  cv::imencode(".jpg", bgr, jpg, {cv::IMWRITE_JPEG_QUALITY, 85});
+  const bool use_jpg = jpg.size() < png.size();
+  const std::vector<uchar>& buf = use_jpg ? jpg : png;
+  return std::string("<figure><img src=\"data:image/") + (use_jpg ? "jpeg" : "png") + ";base64," +
+         base64(std::string(buf.begin(), buf.end())) + "\"><figcaption>" + esc(caption) + "</figcaption></figure>\n";
 }
 
-std::string img_file(const fs::path& p, const std::string& caption) {
+std::string img_file(const fs::path& p, const std::string& caption, int max_width = kViewWidth) {
   if (!fs::exists(p)) return "";
   cv::Mat m = cv::imread(p.string(), cv::IMREAD_COLOR);
   if (m.empty()) return "";
   cv::cvtColor(m, m, cv::COLOR_BGR2RGB);
-  return img_tag(m, caption);
+  return img_tag(m, caption, max_width);
 }
 
 std::string fmt(double v, int prec = 3) {
@@ -191,6 +200,9 @@ std::string build_report(const Options& o) {
       }
     }
     h << "<td>" << esc(comps) << "</td><td>" << esc(closed) << "</td><td class=num>" << fmt(ag.mean_iou, 4)
+      << (ag.mean_iou_inside >= 0 && ag.mean_iou_inside != ag.mean_iou
+              ? " (" + fmt(ag.mean_iou_inside, 4) + " in the views whose silhouette lies inside the image)"
+              : std::string())
       << "</td><td class=num>" << fmt(ag.mean_boundary_px, 3) << " / " << fmt(ag.p95_boundary_px, 3)
       << "</td><td class=num>" << acc << "</td><td class=num>" << comp << "</td><td class=num>"
       << (rough.samples > 0 ? fmt(rough.median * 1000, 4) + " / " + fmt(rough.p90 * 1000, 4) : std::string("-"))
@@ -216,10 +228,21 @@ std::string build_report(const Options& o) {
   }
   // ---- surfaces
   h << "<h2>Surfaces</h2>\n";
-  for (auto& [name, m] : surfaces) h << img_tag(render_sheet(m, scene), name + ".ply from four views (red = back faces)");
-  for (const char* name : {"cut1", "cut2", "final"}) h << img_file(R / ("eval_" + std::string(name) + ".png"), std::string("error of ") + name + " against the ground truth");
+  for (auto& [name, m] : surfaces) h << img_tag(render_sheet(m, scene), name + ".ply from four views (red = back faces)", kSheetWidth);
+  if (!surfaces.empty()) {  // the photos of the same four views, beside the renders
+    std::vector<cv::Mat> tiles;
+    for (int v : spread_views(scene.size())) {
+      cv::Mat t;
+      cv::resize(scene.rgb[v], t, {320, std::max(1, scene.rgb[v].rows * 320 / scene.rgb[v].cols)}, 0, 0, cv::INTER_AREA);
+      tiles.push_back(t);
+    }
+    cv::Mat row;
+    cv::hconcat(tiles, row);
+    h << img_tag(row, "the photos of the same four views", kSheetWidth);
+  }
+  for (const char* name : {"cut1", "cut2", "final"}) h << img_file(R / ("eval_" + std::string(name) + ".png"), std::string("error of ") + name + " against the ground truth", kSheetWidth);
   // ---- inputs
-  h << "<h2>Input views and silhouettes</h2>\n" << img_file(R / "ingest_contact.png", "images with their silhouettes (green)");
+  h << "<h2>Input views and silhouettes</h2>\n" << img_file(R / "ingest_contact.png", "images with their silhouettes (green)", kSheetWidth);
   // ---- levels
   h << "<h2>Adaptive mesh per level</h2>\n";
   for (int i = 0; i < 16; ++i) h << img_file(R / ("mesh_" + std::to_string(i) + "_slice.png"), "mesh_" + std::to_string(i) + ": slice coloured by level");
@@ -230,10 +253,14 @@ std::string build_report(const Options& o) {
       const QPoints q = read_qpoints(sf, scene.size());
       h << "<h2>Quasi-dense points Q (" << q.size() << ")</h2>\n";
       std::vector<cv::Mat> tiles;
-      for (int v : spread_views(scene.size(), 2)) tiles.push_back(points_picture(scene, q, v));
+      for (int v : spread_views(scene.size(), 2)) {
+        cv::Mat t = points_picture(scene, q, v);  // at full resolution: one point a pixel
+        if (t.cols > kViewWidth) cv::resize(t, t, {kViewWidth, std::max(1, t.rows * kViewWidth / t.cols)}, 0, 0, cv::INTER_AREA);
+        tiles.push_back(t);
+      }
       cv::Mat row;
       cv::hconcat(tiles, row);
-      h << img_tag(row, "Q projected into two views, coloured by score (blue low, red high)");
+      h << img_tag(row, "Q projected into two views, coloured by score (blue low, red high)", kSheetWidth);
     } catch (const Error& e) {
       h << "<p class=bad>" << esc(e.what()) << "</p>";
     }

@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "common/silhouette/border.h"
 #include "common/silfix/silfix.h"
 
 namespace tetmvs::silfix {
@@ -13,9 +14,8 @@ cv::Mat view_picture(const cv::Mat& truth, const cv::Mat& s1, const std::vector<
                      int view, double margin_px) {
   require(truth.type() == CV_8U && s1.type() == CV_8U && truth.size() == s1.size(),
           "view_picture: the two silhouettes must be CV_8U masks of one size");
-  cv::Mat dist_in, dist_out;
-  cv::distanceTransform(truth, dist_in, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  cv::distanceTransform(truth == 0, dist_out, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  // distances to the outline, which the image border is not (common/silhouette/border.h)
+  const cv::Mat dist_in = silhouette::distance_inside(truth), dist_out = silhouette::distance_outside(truth);
   cv::Mat img(truth.size(), CV_8UC3, cv::Scalar(0, 0, 0));  // RGB
   for (int y = 0; y < img.rows; ++y)
     for (int x = 0; x < img.cols; ++x) {

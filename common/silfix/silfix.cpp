@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "common/silhouette/border.h"
 #include "common/params.h"
 #include "common/trimesh/raster.h"
 
@@ -236,9 +237,8 @@ Result fix_silhouettes(const tet::TetMesh& m, const Scene& s, const TriMesh& s1,
       w.st.view = v;
       const cv::Mat mine = surface_mask(s1, cam);
       res.s1_masks[v] = mine;
-      cv::Mat dist_in, dist_out;
-      cv::distanceTransform(truth, dist_in, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-      cv::distanceTransform(truth == 0, dist_out, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+      // distances to the outline, which the image border is not (common/silhouette/border.h)
+      const cv::Mat dist_in = silhouette::distance_inside(truth), dist_out = silhouette::distance_outside(truth);
       cv::Mat too_big(truth.size(), CV_8U, cv::Scalar(0)), too_small(truth.size(), CV_8U, cv::Scalar(0));
       std::int64_t inter = 0, uni = 0;
       for (int y = 0; y < truth.rows; ++y)

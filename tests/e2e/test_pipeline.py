@@ -9,6 +9,7 @@ import json
 import os
 import re
 import shutil
+import subprocess
 import tempfile
 import sys
 
@@ -154,6 +155,27 @@ def main():
         d = stamps('{"_comment": "b",\n "label.low_percentile": 12, "photo.T": 0.8}', extra=[f"BUILD_DIR={fake}"])
         changed = sorted(n for n in b if b[n] != d[n])
         expect(changed == ["label.args"], f"a new label parameter changes only label's stamp, changed {changed}")
+    # 4. LEVELS=auto (the default): the number of levels comes from the scene and
+    # refine.target_pixels (bcc-init --print-levels), made once after ingest; a dry run in a
+    # fresh folder makes nothing
+    with tempfile.TemporaryDirectory() as tmp:
+        rdir = os.path.join(tmp, "run")
+        r = tiny_run.make(BIN, SRC, ["-n", "levels"], extra=["LEVELS=auto"], run_dir=rdir)
+        expect(not os.path.exists(os.path.join(rdir, "scene.h5")), "a dry run with LEVELS=auto makes no scene")
+        for target_px in ("4", "2"):
+            extra = ["LEVELS=auto", f"TARGET_PIXELS={target_px}"]
+            tiny_run.make(BIN, SRC, ["mesh"], extra=extra, run_dir=rdir)
+            want = subprocess.run([os.path.join(BIN, "bcc-init"), "--scene", os.path.join(rdir, "scene.h5"),
+                                   "--print-levels", "-q", "--set", f"refine.target_pixels={target_px}",
+                                   "--set", "mesh.cells=10"],
+                                  capture_output=True, text=True, env=dict(os.environ, TETMVS_LOG="")).stdout.strip()
+            got = open(os.path.join(rdir, "levels.mk")).read().split()[-1]
+            expect(got == want, f"TARGET_PIXELS={target_px}: levels.mk says {got}, bcc-init --print-levels {want}")
+            r = tiny_run.make(BIN, SRC, ["-n", "levels"], extra=extra, run_dir=rdir)
+            n = int(got)
+            expect(f"--level {n - 1} " in r.stdout and f"--level {n} " not in r.stdout,
+                   f"TARGET_PIXELS={target_px}: the plan refines {n} levels: {r.stdout[-400:]}")
+        print(f"LEVELS=auto on the tiny scene: {got} levels at 2 px")
     CHECKS.finish()
 
 

@@ -31,6 +31,24 @@ def png_size(data):
     return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
 
 
+def jpeg_size(data):
+    """(width, height) from a JPEG's start-of-frame segment."""
+    if data[:2] != b"\xff\xd8":
+        return None
+    pos = 2
+    while pos + 9 < len(data) and data[pos] == 0xFF:
+        marker, length = data[pos + 1], int.from_bytes(data[pos + 2:pos + 4], "big")
+        if marker in (0xC0, 0xC1, 0xC2):
+            return int.from_bytes(data[pos + 7:pos + 9], "big"), int.from_bytes(data[pos + 5:pos + 7], "big")
+        pos += 2 + length
+    return None
+
+
+def image_size(src):
+    data = base64.b64decode(src.split(",", 1)[1])
+    return png_size(data) if src.startswith("data:image/png;") else jpeg_size(data)
+
+
 def png_grey_spread(path):
     """Fraction of rows of an 8-bit RGB/RGBA PNG that are not one flat colour (a blank
     page gives 0). Decodes the PNG with zlib; filters are undone row by row."""
@@ -84,10 +102,12 @@ def main():
     # self-contained: every image inline and a real PNG, nothing fetched from elsewhere
     srcs = re.findall(r'<img[^>]*src="([^"]*)"', html)
     expect(len(srcs) >= 8, f"the page shows at least 8 pictures (has {len(srcs)})")
-    bad = [s[:40] for s in srcs if not s.startswith("data:image/png;base64,")]
-    expect(not bad, f"every picture is an inline PNG (not: {bad})")
-    sizes = [png_size(base64.b64decode(s.split(",", 1)[1])) for s in srcs if s.startswith("data:")]
-    expect(all(sz and sz[0] >= 64 and sz[1] >= 64 for sz in sizes), f"inline pictures decode as PNGs of size: {sizes}")
+    bad = [s[:40] for s in srcs if not s.startswith(("data:image/png;base64,", "data:image/jpeg;base64,"))]
+    expect(not bad, f"every picture is an inline PNG or JPEG (not: {bad})")
+    sizes = [image_size(s) for s in srcs if s.startswith("data:")]
+    expect(all(sz and sz[0] >= 64 and sz[1] >= 64 for sz in sizes), f"inline pictures decode as PNG/JPEG of size: {sizes}")
+    # thumbnails a browser handles: one view at most 640 px wide, a sheet of views 1280
+    expect(all(sz and sz[0] <= 1280 for sz in sizes), f"pictures at most 1280 px wide: {sizes}")
     expect(not re.search(r'(src|href)="(https?:|file:|/)', html), "no external references")
 
     # the sections a user looks for

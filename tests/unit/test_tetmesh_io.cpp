@@ -7,6 +7,7 @@
 #include "common/camera.h"
 #include "common/error.h"
 #include "common/h5io.h"
+#include "common/params.h"
 #include "common/tetmesh/mesh_io.h"
 #include "common/tetmesh/projection.h"
 #include "common/tetmesh/refine.h"
@@ -122,6 +123,16 @@ TEST(TetMeshProjection, LevelsForPixels) {
   EXPECT_EQ(levels_for_pixels(lat, box, {cam}, 2.0), 3);
   EXPECT_EQ(levels_for_pixels(lat, box, {cam}, 16.0), 0);
   EXPECT_EQ(levels_for_pixels(lat, box, {cam}, 1.9), 4);
+  // the default target (pipeline.mk's LEVELS=auto): 640 x 480 photos with level-0 cells of
+  // 28 px (dinoRing's cameras: 24-32 px) keep 3 levels, 1600 x 1200 photos with cells of 255 px
+  // (a DTU scan at mesh.cells 16) get 6, both ending at 2-4 px
+  const double target = tetmvs::Params::defaults().d("refine.target_pixels");
+  tetmvs::Camera dino = cam, dtu = cam;
+  dino.K(0, 0) = dino.K(1, 1) = 28 * 5 / lat.h;
+  dtu.K(0, 0) = dtu.K(1, 1) = 255 * 5 / lat.h;
+  dtu.width = 1600, dtu.height = 1200;
+  EXPECT_EQ(levels_for_pixels(lat, box, {dino}, target), 3);
+  EXPECT_EQ(levels_for_pixels(lat, box, {dtu}, target), 6);
   tetmvs::Camera behind = cam;
   behind.t = Eigen::Vector3d(-0.5, -0.5, -10);
   EXPECT_THROW(levels_for_pixels(lat, box, {behind}, 2.0), tetmvs::Error);
