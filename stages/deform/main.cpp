@@ -33,10 +33,12 @@ int main(int argc, char** argv) {
     scene.load_grey();
     const TriMesh start = read_ply(mesh_file);
     {
-      // per view a depth and a face-id buffer for visibility; the mesh grows by remeshing to
-      // edges of about deform.max_edge_px: budget 16x the start's faces at ~400 bytes each
+      // per view and pixel: the grey image (4 bytes), the raster's depth and face ids (8), the
+      // signed distances of the mesh's and of the true silhouette (8), the photometric force's
+      // image gradients (8) and clean-pixel mask (1); the mesh grows by remeshing to edges of
+      // about deform.max_edge_px: budget 16x the start's faces at ~400 bytes each
       const double pixels = static_cast<double>(scene.size()) * scene.cams[0].width * scene.cams[0].height;
-      const double bytes = 9.0 * pixels + 16.0 * 400.0 * static_cast<double>(start.nf());
+      const double bytes = 29.0 * pixels + 16.0 * 400.0 * static_cast<double>(start.nf());
       std::ostringstream what;
       what << "deform: " << mesh_file << " (" << start.nf() << " faces, " << scene.size() << " views)";
       check_memory_budget(ctx.params, bytes, what.str(), "raise deform.max_edge_px or start from a coarser surface");
