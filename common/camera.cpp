@@ -1,6 +1,9 @@
 #include "common/camera.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
+
+#include "common/error.h"
 
 namespace tetmvs {
 
@@ -32,6 +35,15 @@ bool is_rotation(const Eigen::Matrix3d& R, double tol) {
   if (!R.allFinite()) return false;
   const double orth = (R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   return orth <= tol && std::abs(R.determinant() - 1.0) <= tol;
+}
+
+double pixel_footprint(const std::vector<Camera>& cams, const Eigen::Vector3d& point) {
+  require(!cams.empty(), "pixel_footprint: no cameras");
+  std::vector<double> v;
+  v.reserve(cams.size());
+  for (const Camera& c : cams) v.push_back((c.centre() - point).norm() / c.focal());
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
 }
 
 }  // namespace tetmvs

@@ -41,6 +41,10 @@ struct Camera {
   double focal() const { return 0.5 * (K(0, 0) + K(1, 1)); }
 };
 
+// Median over cameras of distance(point, camera centre) / focal: the world size of one
+// pixel at `point` (the upper median for an even count).
+double pixel_footprint(const std::vector<Camera>& cams, const Eigen::Vector3d& point);
+
 // Checks that R is a rotation (orthonormal, det +1) to within tol.
 bool is_rotation(const Eigen::Matrix3d& R, double tol = 1e-6);
 

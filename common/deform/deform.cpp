@@ -301,9 +301,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
   require(static_cast<int>(scene.grey.size()) == scene.size(), "deform: the scene's grey images are not loaded");
   const int nc = scene.size();
 
-  std::vector<double> cam_fp;
-  for (const auto& c : scene.cams) cam_fp.push_back((scene.box.center() - c.centre()).norm() / c.focal());
-  const double fallback_fp = median(cam_fp);
+  const double fallback_fp = pixel_footprint(scene.cams, scene.box.center());
 
   // the photometric force's images, one pyramid level at a time, coarse to fine
   // (Options::photo_level): each level is made when first used and replaces the previous

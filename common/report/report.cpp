@@ -165,7 +165,7 @@ std::string build_report(const Options& o) {
     if (!fs::exists(ply)) continue;
     TriMesh m = read_ply(ply);
     const auto ag = silhouette_agreement(m, scene);
-    const Roughness rough = surface_roughness(m, o.roughness_radius_px * pixel_size_at_object(m, scene.cams));
+    const Roughness rough = surface_roughness_px(m, scene.cams, o.roughness_radius_px);
     h << "<tr><td>" << name << ".ply</td><td class=num>" << m.nf() << "</td>";
     std::string comps = "-", closed = "-", acc = "-", comp = "-", wrong = "-";
     const fs::path ev = R / ("eval_" + std::string(name) + ".json");

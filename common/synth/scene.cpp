@@ -157,14 +157,6 @@ Eigen::Vector3d scene_up(const std::vector<Camera>& cams, const Eigen::Vector3d&
   return up;
 }
 
-double pixel_footprint(const std::vector<Camera>& cams, const Eigen::Vector3d& centre) {
-  require(!cams.empty(), "pixel_footprint: no cameras");
-  std::vector<double> v;
-  for (const Camera& c : cams) v.push_back((c.centre() - centre).norm() / c.focal());
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
 Placement fit_to_box(const TriMesh& canonical, const Eigen::AlignedBox3d& box, const Eigen::Vector3d& up, double fill) {
   require(fill > 0 && fill <= 1, "fit_to_box: fill must be in (0, 1], got ", fill);
   require(!box.isEmpty() && (box.sizes().array() > 0).all(), "fit_to_box: empty box");

@@ -41,8 +41,6 @@ bool read_readme_box(const std::filesystem::path& readme, Eigen::AlignedBox3d& b
 // normal of the cameras' plane when the cameras surround the centre), snapped to the
 // nearest world axis when within 30 degrees of it.
 Eigen::Vector3d scene_up(const std::vector<Camera>& cams, const Eigen::Vector3d& centre);
-// Median over cameras of distance(centre, camera) / focal: world size of one pixel.
-double pixel_footprint(const std::vector<Camera>& cams, const Eigen::Vector3d& centre);
 
 struct Placement {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();

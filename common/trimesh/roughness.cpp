@@ -81,16 +81,12 @@ Roughness surface_roughness(const TriMesh& mesh, double radius, int max_samples)
   return r;
 }
 
-double pixel_size_at_object(const TriMesh& mesh, const std::vector<Camera>& cams) {
-  require(!cams.empty() && mesh.nv() > 0, "pixel_size_at_object: needs cameras and a non-empty mesh");
+Roughness surface_roughness_px(const TriMesh& mesh, const std::vector<Camera>& cams, double radius_px,
+                               int max_samples) {
+  if (mesh.nv() == 0) return Roughness{};
   Eigen::AlignedBox3d box;
   for (const auto& p : mesh.V) box.extend(p);
-  const Eigen::Vector3d centre = box.center();
-  std::vector<double> s;
-  s.reserve(cams.size());
-  for (const auto& c : cams) s.push_back((c.centre() - centre).norm() / c.focal());
-  std::nth_element(s.begin(), s.begin() + (s.size() - 1) / 2, s.end());
-  return s[(s.size() - 1) / 2];
+  return surface_roughness(mesh, radius_px * pixel_footprint(cams, box.center()), max_samples);
 }
 
 }  // namespace tetmvs

@@ -22,8 +22,9 @@ struct Roughness {
 // At most `max_samples` vertices, evenly spaced in the vertex order (deterministic).
 Roughness surface_roughness(const TriMesh& mesh, double radius, int max_samples = 20000);
 
-// The length of one pixel at the object: over the cameras, the median of (distance from
-// the camera centre to the centre of the mesh's bounding box) / focal length.
-double pixel_size_at_object(const TriMesh& mesh, const std::vector<Camera>& cams);
+// The same with the radius in pixels at the object (pixel_footprint at the centre of the
+// mesh's bounding box).
+Roughness surface_roughness_px(const TriMesh& mesh, const std::vector<Camera>& cams, double radius_px,
+                               int max_samples = 20000);
 
 }  // namespace tetmvs

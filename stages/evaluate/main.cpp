@@ -152,7 +152,7 @@ int main(int argc, char** argv) {
     }
     const EvalResult r = evaluate(rec, g, cams, o);
     const double radius_px = p.d("eval.roughness_radius_px");
-    const Roughness rough = surface_roughness(rec, radius_px * pixel_size_at_object(rec, cams));
+    const Roughness rough = surface_roughness_px(rec, cams, radius_px);
     nlohmann::json j = to_json(r);
     j["roughness"] = {{"radius", rough.radius}, {"radius_px", radius_px}, {"samples", rough.samples},
                       {"median", rough.median}, {"p90", rough.p90}};

@@ -36,7 +36,7 @@ inline DeformScene make_deform_scene(const std::string& object, int views = 12, 
   const double f = 0.5 * std::min(w, h) / std::tan(std::asin(R / 0.65));
   s.cams = synth::ring_cameras(views, 20, 0.65, s.box.center(), w, h, f);
   const Eigen::Vector3d up = synth::scene_up(s.cams, s.box.center());
-  d.px = synth::pixel_footprint(s.cams, s.box.center());
+  d.px = pixel_footprint(s.cams, s.box.center());
   d.gt = synth::make_placed_object(object, s.box, up, 0.85, 1.0 * d.px);
   synth::TextureOptions to;
   to.strength = texture;

@@ -86,7 +86,7 @@ double median(std::vector<double> v) {
 
 synth::SolidTexture texture_for(const std::vector<Camera>& cams, const Eigen::AlignedBox3d& box, double strength = 1.0) {
   synth::TextureOptions t;
-  const double px = synth::pixel_footprint(cams, box.center());
+  const double px = pixel_footprint(cams, box.center());
   t.min_scale = 3 * px;
   t.max_scale = 40 * px;
   t.strength = strength;
@@ -102,7 +102,7 @@ TEST(Synth, DinoRingSceneFrame) {
   EXPECT_NEAR(d.box.min().x(), -0.021897, 1e-9);
   EXPECT_NEAR(d.box.max().y(), 0.108227, 1e-9);
   EXPECT_EQ(synth::scene_up(d.cams, d.box.center()), Eigen::Vector3d(0, 1, 0));
-  const double px = synth::pixel_footprint(d.cams, d.box.center());
+  const double px = pixel_footprint(d.cams, d.box.center());
   EXPECT_NEAR(px, 0.65 / 3318, 0.01e-3);  // about 0.2 mm per pixel
 }
 
@@ -149,7 +149,7 @@ TEST(Synth, GroundTruthIsPhotoConsistentOnDinoCameras) {
   DinoSetup d;
   if (!load_dino(d)) GTEST_SKIP() << "no dinoRing data";
   const Eigen::Vector3d up = synth::scene_up(d.cams, d.box.center());
-  const double px = synth::pixel_footprint(d.cams, d.box.center());
+  const double px = pixel_footprint(d.cams, d.box.center());
   const TriMesh m = synth::make_placed_object("cup", d.box, up, 0.85, 2 * px);
   const synth::SolidTexture tex = texture_for(d.cams, d.box);
   synth::ShadingOptions sh;
@@ -248,7 +248,7 @@ TEST(Synth, WritesAMiddleburyFolderDeterministically) {
   for (const Camera& c : cams) EXPECT_TRUE(c.sees(box.center()));
   const Eigen::Vector3d up = synth::scene_up(cams, box.center());
   EXPECT_EQ(up, Eigen::Vector3d::UnitZ());
-  const TriMesh m = synth::make_placed_object("horn", box, up, 0.85, 3 * synth::pixel_footprint(cams, box.center()));
+  const TriMesh m = synth::make_placed_object("horn", box, up, 0.85, 3 * pixel_footprint(cams, box.center()));
   const synth::SolidTexture tex = texture_for(cams, box);
   synth::ShadingOptions sh;
   synth::DatasetInfo info;

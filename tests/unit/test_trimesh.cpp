@@ -190,7 +190,7 @@ TEST(TriMesh, RoughnessOfASmoothAndANoisySphere) {
   EXPECT_THROW(surface_roughness(m, 0), Error);
 }
 
-TEST(TriMesh, PixelSizeAtTheObjectIsDistanceOverFocal) {
+TEST(TriMesh, RoughnessRadiusInPixelsAtTheObject) {
   const TriMesh m = synth::make_sphere(0.2);
   std::vector<Camera> cams(3);
   const double dist[3] = {4, 5, 9};
@@ -199,5 +199,8 @@ TEST(TriMesh, PixelSizeAtTheObjectIsDistanceOverFocal) {
     cams[i].t = Eigen::Vector3d(0, 0, dist[i]);  // centre (0, 0, -dist)
     cams[i].K << 1000, 0, 320, 0, 1000, 240, 0, 0, 1;
   }
-  EXPECT_NEAR(pixel_size_at_object(m, cams), 5.0 / 1000, 1e-3 / 1000);  // the median camera
+  EXPECT_NEAR(pixel_footprint(cams, Eigen::Vector3d::Zero()), 5.0 / 1000, 1e-9);  // the median camera
+  Eigen::AlignedBox3d box;
+  for (const auto& p : m.V) box.extend(p);
+  EXPECT_DOUBLE_EQ(surface_roughness_px(m, cams, 40).radius, 40 * pixel_footprint(cams, box.center()));
 }
