@@ -156,8 +156,8 @@ std::string build_report(const Options& o) {
   }
   // ---- metrics
   h << "<h2>Results</h2>\n<table><tr><th>surface</th><th>faces</th><th>components</th><th>closed</th>"
-    << "<th>silhouette IoU (mean)</th><th>boundary error px (mean / 95%)</th><th>accuracy 90% (mm)</th>"
-    << "<th>completeness 1.25 mm</th><th>roughness (mm, median / 90%)</th>"
+    << "<th>silhouette IoU (mean)</th><th>boundary error px (mean / 95%)</th><th>accuracy 90% (pixels at the object; world units)</th>"
+    << "<th>completeness (eval.threshold)</th><th>roughness (pixels at the object, median / 90%)</th>"
     << "<th>wrong labels: interior / exterior cells (wholly)</th></tr>\n";
   std::vector<std::pair<std::string, TriMesh>> surfaces;
   for (const char* name : {"cut1", "cut2", "final"}) {
@@ -166,6 +166,7 @@ std::string build_report(const Options& o) {
     TriMesh m = read_ply(ply);
     const auto ag = silhouette_agreement(m, scene);
     const Roughness rough = surface_roughness_px(m, scene.cams, o.roughness_radius_px);
+    const double rough_px = rough.radius / o.roughness_radius_px;  // the pixel size there
     h << "<tr><td>" << name << ".ply</td><td class=num>" << m.nf() << "</td>";
     std::string comps = "-", closed = "-", acc = "-", comp = "-", wrong = "-";
     const fs::path ev = R / ("eval_" + std::string(name) + ".json");
@@ -181,8 +182,12 @@ std::string build_report(const Options& o) {
           if (!genus.empty()) comps += " (genus " + genus + ")";
           closed = c.value("closed", json(false)).dump();
         }
-        if (e.contains("accuracy") && e["accuracy"]["value"].is_number())
-          acc = fmt(e["accuracy"]["value"].get<double>() * 1000, 3);
+        if (e.contains("accuracy") && e["accuracy"]["value"].is_number()) {
+          const double a = e["accuracy"]["value"].get<double>();
+          acc = e.contains("pixel_size") && e["pixel_size"].is_number() && e["pixel_size"].get<double>() > 0
+                    ? fmt(a / e["pixel_size"].get<double>(), 3) + " px; " + fmt(a, 3)
+                    : fmt(a, 3);
+        }
         if (e.contains("completeness") && e["completeness"]["value"].is_number())
           comp = fmt(e["completeness"]["value"].get<double>() * 100, 4) + " %";
         if (e.contains("regions"))
@@ -205,7 +210,7 @@ std::string build_report(const Options& o) {
               : std::string())
       << "</td><td class=num>" << fmt(ag.mean_boundary_px, 3) << " / " << fmt(ag.p95_boundary_px, 3)
       << "</td><td class=num>" << acc << "</td><td class=num>" << comp << "</td><td class=num>"
-      << (rough.samples > 0 ? fmt(rough.median * 1000, 4) + " / " + fmt(rough.p90 * 1000, 4) : std::string("-"))
+      << (rough.samples > 0 ? fmt(rough.median / rough_px, 3) + " / " + fmt(rough.p90 / rough_px, 3) : std::string("-"))
       << "</td><td class=num>" << esc(wrong)
       << "</td></tr>\n";
     surfaces.emplace_back(name, std::move(m));

@@ -3,6 +3,7 @@
 // error picture. The work lives in common/trimesh/evaluate.cpp.
 #include <omp.h>
 
+#include <cmath>
 #include <filesystem>
 #include <optional>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "common/h5io.h"
 #include "common/image.h"
 #include "common/label/truth.h"
+#include "common/log.h"
 #include "common/par_io.h"
 #include "common/ply.h"
 #include "common/scene.h"
@@ -91,7 +93,6 @@ int main(int argc, char** argv) {
       require(!is.fail() && x == 'x' && w > 0 && h > 0, "--size must look like 640x480, got '", size, "'");
     }
     EvalOptions o;
-    o.spacing = p.d("eval.sample_spacing");
     o.thresholds = {p.d("eval.threshold")};
     if (!thresholds.empty()) {
       std::stringstream ss(thresholds);
@@ -136,6 +137,16 @@ int main(int argc, char** argv) {
       truth = label::check_labels(m, lab, reason, MeshBVH(g));
     }
     const std::vector<Camera> cams = load_cameras(cameras, w, h);
+    // lengths given in pixels are taken at the ground truth's centre
+    require(g.nv() > 0, gt, ": the ground truth has no vertices");
+    const auto [glo, ghi] = bounds(g);
+    const double px = pixel_footprint(cams, 0.5 * (glo + ghi));
+    require(std::isfinite(px) && px > 0, cameras, ": the cameras give no pixel size at the ground truth");
+    o.spacing = p.d("eval.sample_spacing_px") * px;
+    const double threshold_px = o.thresholds[0] / px;
+    if (threshold_px < 0.1 || threshold_px > 100)
+      warn("eval.threshold = ", o.thresholds[0], " world units is ", threshold_px,
+           " pixels at the object: is it in the scene's units? (1.25 mm is 0.00125 in metres, 1.25 in millimetres)");
     {
       // surface samples (area / spacing^2 each): position, normal, face, distances, and for
       // the ground truth's one visibility byte per camera; plus one depth and one triangle
@@ -146,9 +157,10 @@ int main(int argc, char** argv) {
       const double bytes = ng * (kEvalBytesPerSample + static_cast<double>(cams.size())) + nr * kEvalBytesPerSample +
                            omp_get_max_threads() * raster;
       std::ostringstream what;
-      what << "evaluate: about " << ng + nr << " surface samples at eval.sample_spacing " << o.spacing << ", "
+      what << "evaluate: about " << ng + nr << " surface samples at eval.sample_spacing_px " << o.spacing / px << " ("
+           << o.spacing << " world units), "
            << cams[0].width << " x " << cams[0].height << " pixel views (" << cameras << ")";
-      check_memory_budget(p, bytes, what.str(), "raise eval.sample_spacing, or give --size");
+      check_memory_budget(p, bytes, what.str(), "raise eval.sample_spacing_px, or give --size");
     }
     const EvalResult r = evaluate(rec, g, cams, o);
     const double radius_px = p.d("eval.roughness_radius_px");
@@ -156,6 +168,7 @@ int main(int argc, char** argv) {
     nlohmann::json j = to_json(r);
     j["roughness"] = {{"radius", rough.radius}, {"radius_px", radius_px}, {"samples", rough.samples},
                       {"median", rough.median}, {"p90", rough.p90}};
+    j["pixel_size"] = px;
     j["inputs"] = {{"mesh", mesh}, {"gt", gt}, {"cameras", cameras}};
     if (truth) {
       j["labels"] = label::to_json(*truth);
@@ -165,7 +178,7 @@ int main(int argc, char** argv) {
     j["params"] = p.values_for("evaluate");
     write_text_atomic(out, j.dump(2) + "\n");
     if (!png.empty()) {
-      write_png_rgb(png, error_picture(rec, MeshBVH(g), cams, p.i("eval.png_views"), p.d("eval.png_max_error")));
+      write_png_rgb(png, error_picture(rec, MeshBVH(g), cams, p.i("eval.png_views"), p.d("eval.png_max_error_px") * px));
     }
     std::ostringstream s;
     s.precision(4);

@@ -246,7 +246,7 @@ def budget_cases(run, tmp, out_dir, have):
     gt = os.path.join(data, "gt.ply")
     out = os.path.join(out_dir, "eval.json")
     run_case("evaluate", ["--mesh", gt, "--gt", gt, "--cameras", scene, "--out", out, "--set",
-                          "eval.sample_spacing=1e-6"], [out], ["memory budget", "eval.sample_spacing"],
+                          "eval.sample_spacing_px=0.01"], [out], ["memory budget", "eval.sample_spacing_px"],
              "budget: sample spacing far too fine")
     if {"photoconsist", "label", "cut"} <= have:
         full = tiny_run.build(BIN, SRC, "cut1")

@@ -78,6 +78,22 @@ def main():
         expect(acc <= max_acc, f"{surf} accuracy {acc * 1000:.3f} mm <= {max_acc * 1000:.1f} mm")
         big = [c for c in chk["components"] if c["faces"] > 0.05 * chk["faces"]]
         expect(len(big) == 1 and big[0]["genus"] == 1, f"{surf}: one large component of genus 1 (torus), got {[(c['faces'], c['genus']) for c in chk['components']]}")
+    # lengths in pixels at the object: the sample spacing is one pixel there, in any units; a
+    # threshold in the wrong units (1.25 "mm" in a scene in metres) is said, not silently used
+    ev = os.path.join(run, "eval_final.json")
+    if os.path.exists(ev):
+        e = json.load(open(ev))
+        px = e.get("pixel_size", 0)
+        expect(px > 0 and abs(e["options"]["sample_spacing"] - px) < 1e-9 * max(1, px),
+               f"eval_final.json: sample spacing {e['options']['sample_spacing']} is one pixel ({px}) at the object")
+        r = subprocess.run([os.path.join(BIN, "evaluate"), "--mesh", os.path.join(run, "final.ply"), "--gt",
+                            e["inputs"]["gt"], "--cameras", os.path.join(run, "scene.h5"), "--out",
+                            os.path.join(run, "eval_units.json"), "--set", "eval.threshold=1.25", "--quiet"],
+                           capture_output=True, text=True)
+        expect(r.returncode == 0 and "in the scene's units" in r.stderr,
+               f"evaluate warns about a threshold of thousands of pixels: {r.stderr.strip()[:200]}")
+        if os.path.exists(os.path.join(run, "eval_units.json")):
+            os.remove(os.path.join(run, "eval_units.json"))
     # labels against the ground truth, every cell (evaluate --labels; centroid on the wrong side)
     for surf, lab in (("cut1", "labels.h5"), ("cut2", "silfix.h5")):
         ev = os.path.join(run, f"eval_{surf}.json")

@@ -121,12 +121,12 @@ def main():
         if not os.path.exists(ev):
             continue
         d = json.load(open(ev))
-        acc = f"{d['accuracy']['value'] * 1000:.3g}"
+        acc = f"{d['accuracy']['value'] / d['pixel_size']:.3g} px; {d['accuracy']['value']:.3g}"
         comp = f"{d['completeness']['value'] * 100:.4g} %"
         row = re.search(rf"<tr><td>{s}\.ply</td>(.*?)</tr>", html)
         expect(row is not None, f"results row for {s}.ply")
         if row:
-            expect(acc in row.group(1), f"{s}: accuracy {acc} mm shown in its row: {row.group(1)[:300]}")
+            expect(acc in row.group(1), f"{s}: accuracy {acc} (pixels; world units) shown in its row: {row.group(1)[:300]}")
             expect(comp in row.group(1), f"{s}: completeness {comp} shown in its row")
             if "labels" in d:  # the cut's hard labels against the ground truth
                 li, le = d["labels"]["interior"], d["labels"]["exterior"]
