@@ -57,14 +57,14 @@ ScoresResult score_faces(const tet::TetMesh& m, const photo::Views& views, const
         scratch.hidden = nullptr;
         if (occl && occl->hidden_views(views, (a + b + c) / 3.0, mask.data()) > 0)
           scratch.hidden = mask.data(), hidden[q] = 1;
-        const photo::PatchResult p0 = photo::face_patch(views, a, b, c, opts, scratch);
-        const photo::PatchResult p1 = photo::face_patch(views, a, c, b, opts, scratch);
+        photo::PatchResult p0, p1;
+        photo::face_patches(views, a, b, c, opts, scratch, p0, p1);
         R.omega[2 * static_cast<std::size_t>(f)] = p0.omega();
         R.omega[2 * static_cast<std::size_t>(f) + 1] = p1.omega();
         defined[q] = static_cast<std::uint8_t>(p0.valid() + p1.valid());
         scratch.hidden = nullptr;
       }
-      bar.tick();
+      if (progress) bar.tick();
     }
   }
   bar.done();
