@@ -25,9 +25,18 @@ void face_patches(const Views& views, const Eigen::Vector3d& a, const Eigen::Vec
                   const Options& opts, Scratch& scratch, PatchResult& front, PatchResult& back) {
   front = PatchResult{};
   back = PatchResult{};
+  if (triangle_normal(a, b, c).isZero()) return;
+  detail::prepare_centre(views, face_centroid(a, b, c), opts, scratch);
+  face_patches_prepared(views, a, b, c, opts, scratch, front, back);
+}
+
+void face_patches_prepared(const Views& views, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                           const Eigen::Vector3d& c, const Options& opts, Scratch& scratch, PatchResult& front,
+                           PatchResult& back) {
+  front = PatchResult{};
+  back = PatchResult{};
   const Eigen::Vector3d n = triangle_normal(a, b, c);
   if (n.isZero()) return;
-  detail::prepare_centre(views, (a + b + c) / 3.0, opts, scratch);
   // the axes of score_patch for n and -n
   for (const double sign : {1.0, -1.0}) {
     const Eigen::Vector3d u = sign * n;

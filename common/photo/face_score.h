@@ -26,6 +26,15 @@ PatchResult face_patch(const Views& views, const Eigen::Vector3d& a, const Eigen
 // degenerate triangle.
 void face_patches(const Views& views, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                   const Options& opts, Scratch& scratch, PatchResult& front, PatchResult& back);
+// face_patches after detail::prepare_centre(views, face_centroid(a, b, c), opts, scratch)
+// (camera_select.h): the caller may use the projections in scratch in between.
+void face_patches_prepared(const Views& views, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                           const Eigen::Vector3d& c, const Options& opts, Scratch& scratch, PatchResult& front,
+                           PatchResult& back);
+// The point the face patches are centred at: (a + b + c) / 3.
+inline Eigen::Vector3d face_centroid(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  return (a + b + c) / 3.0;
+}
 
 // omega in [0, 1] of that oriented face: face_patch(...).omega() (0 when too few views).
 inline float face_score(const Views& views, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
