@@ -20,6 +20,22 @@ Eigen::Vector3d triangle_normal(const Eigen::Vector3d& a, const Eigen::Vector3d&
 PatchResult face_patch(const Views& views, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                        const Eigen::Vector3d& c, const Options& opts, Scratch& scratch);
 
+// Both orientations of triangle (a, b, c) at once: `front` seen from the side of
+// triangle_normal(a, b, c), `back` from the other (face_patch(a, b, c) and
+// face_patch(a, c, b)); the views are projected once for both. Both invalid for a
+// degenerate triangle.
+void face_patches(const Views& views, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                  const Options& opts, Scratch& scratch, PatchResult& front, PatchResult& back);
+// face_patches after detail::prepare_centre(views, face_centroid(a, b, c), opts, scratch)
+// (camera_select.h): the caller may use the projections in scratch in between.
+void face_patches_prepared(const Views& views, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                           const Eigen::Vector3d& c, const Options& opts, Scratch& scratch, PatchResult& front,
+                           PatchResult& back);
+// The point the face patches are centred at: (a + b + c) / 3.
+inline Eigen::Vector3d face_centroid(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  return (a + b + c) / 3.0;
+}
+
 // omega in [0, 1] of that oriented face: face_patch(...).omega() (0 when too few views).
 inline float face_score(const Views& views, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                         const Eigen::Vector3d& c, const Options& opts, Scratch& scratch) {

@@ -166,41 +166,48 @@ bool sample_grid(const View& v, const Eigen::Vector3d& h0, const Eigen::Vector3d
   const double ru = c * (std::abs(g.du1) + std::abs(g.du2)), rv = c * (std::abs(g.dv1) + std::abs(g.dv2));
   const bool inside = g.u0 - ru >= 0.0 && g.v0 - rv >= 0.0 && g.u0 + ru < static_cast<double>(v.width - 1) &&
                       g.v0 + rv < static_cast<double>(v.height - 1);
+  if (inside) {
+    // Every sample's coordinates first (the operations of the scalar loop below), then
+    // the bilinear samples four at a time over the whole patch in row order.
+    alignas(16) double us[kMaxMu * kMaxMu + 3], vs[kMaxMu * kMaxMu + 3];
+    const int ns = mu * mu;
+    for (int j = 0, q = 0; j < mu; ++j) {
+      const double tj = static_cast<double>(j - c);
+      const double uj = g.u0 + tj * g.du2, vj = g.v0 + tj * g.dv2;
+      for (int i = 0; i < mu; ++i, ++q) {
+        const double ti = static_cast<double>(i - c);
+        us[q] = uj + ti * g.du1;
+        vs[q] = vj + ti * g.dv1;
+      }
+    }
+    int q = 0;
+#if defined(__SSE2__)
+    for (; q + 4 <= ns; q += 4) {
+      alignas(16) float o[4];
+      bilinear4_inside(data, step, _mm_load_pd(us + q), _mm_load_pd(us + q + 2), _mm_load_pd(vs + q),
+                       _mm_load_pd(vs + q + 2), o);
+      for (int r = 0; r < 4; ++r) col[static_cast<std::size_t>(q + r) * L] = o[r];
+    }
+#endif
+    for (; q < ns; ++q) {
+      const double u = us[q], w = vs[q];
+      const int u0 = static_cast<int>(u), v0 = static_cast<int>(w);
+      const float a = static_cast<float>(u - u0), b = static_cast<float>(w - v0);
+      const float* r0 = data + static_cast<std::size_t>(v0) * step + u0;
+      const float* r1 = r0 + step;
+      col[static_cast<std::size_t>(q) * L] = (1 - b) * ((1 - a) * r0[0] + a * r0[1]) + b * ((1 - a) * r1[0] + a * r1[1]);
+    }
+    return true;
+  }
   for (int j = 0; j < mu; ++j) {
     const double tj = static_cast<double>(j - c);
     const double uj = g.u0 + tj * g.du2, vj = g.v0 + tj * g.dv2;
     float* out = col + static_cast<std::size_t>(j * mu) * L;
-    if (inside) {
-      int i = 0;
-#if defined(__SSE2__)
-      // four samples per step, each lane doing the scalar operations below
-      const __m128d du = _mm_set1_pd(g.du1), dv = _mm_set1_pd(g.dv1), u0j = _mm_set1_pd(uj), v0j = _mm_set1_pd(vj);
-      for (; i + 4 <= mu; i += 4) {
-        const __m128d ta = _mm_set_pd(static_cast<double>(i + 1 - c), static_cast<double>(i - c));
-        const __m128d tb = _mm_set_pd(static_cast<double>(i + 3 - c), static_cast<double>(i + 2 - c));
-        const __m128d ua = _mm_add_pd(u0j, _mm_mul_pd(ta, du)), ub = _mm_add_pd(u0j, _mm_mul_pd(tb, du));
-        const __m128d va = _mm_add_pd(v0j, _mm_mul_pd(ta, dv)), vb = _mm_add_pd(v0j, _mm_mul_pd(tb, dv));
-        alignas(16) float o[4];
-        bilinear4_inside(data, step, ua, ub, va, vb, o);
-        for (int q = 0; q < 4; ++q) out[static_cast<std::size_t>(i + q) * L] = o[q];
-      }
-#endif
-      for (; i < mu; ++i) {
-        const double ti = static_cast<double>(i - c);
-        const double u = uj + ti * g.du1, w = vj + ti * g.dv1;
-        const int u0 = static_cast<int>(u), v0 = static_cast<int>(w);
-        const float a = static_cast<float>(u - u0), b = static_cast<float>(w - v0);
-        const float* r0 = data + static_cast<std::size_t>(v0) * step + u0;
-        const float* r1 = r0 + step;
-        out[static_cast<std::size_t>(i) * L] = (1 - b) * ((1 - a) * r0[0] + a * r0[1]) + b * ((1 - a) * r1[0] + a * r1[1]);
-      }
-    } else {
-      for (int i = 0; i < mu; ++i) {
-        const double ti = static_cast<double>(i - c);
-        if (!sample_fast(data, step, v.width, v.height, v.grey, uj + ti * g.du1, vj + ti * g.dv1,
-                         out[static_cast<std::size_t>(i) * L]))
-          return false;
-      }
+    for (int i = 0; i < mu; ++i) {
+      const double ti = static_cast<double>(i - c);
+      if (!sample_fast(data, step, v.width, v.height, v.grey, uj + ti * g.du1, vj + ti * g.dv1,
+                       out[static_cast<std::size_t>(i) * L]))
+        return false;
     }
   }
   return true;

@@ -2,6 +2,7 @@
 
 #include "common/error.h"
 #include "common/log.h"
+#include "common/photo/camera_select.h"
 #include "common/photo/face_score.h"
 
 namespace tetmvs::photoconsist {
@@ -38,6 +39,7 @@ ScoresResult score_faces(const tet::TetMesh& m, const photo::Views& views, const
     if (selected[f]) list.push_back(f);
   R.scored_faces = static_cast<std::int64_t>(list.size());
   std::vector<std::uint8_t> outside(list.size(), 0), defined(list.size(), 0), hidden(list.size(), 0);
+  require(hull.views() == &views, "photoconsist: the hull test of the face scores must be made on their views");
   if (occl && occl->empty()) occl = nullptr;
   require(!occl || occl->num_views() == views.size(), "photoconsist: occlusion maps of ",
           occl ? occl->num_views() : 0, " views for ", views.size(), " views");
@@ -51,20 +53,25 @@ ScoresResult score_faces(const tet::TetMesh& m, const photo::Views& views, const
       const std::int32_t f = list[q];
       const auto fv = m.face_vertices(f);
       const Eigen::Vector3d a = m.vertex(fv[0]), b = m.vertex(fv[1]), c = m.vertex(fv[2]);
-      if (!hull.inside((a + b + c) / 3.0)) {
+      const Eigen::Vector3d X = photo::face_centroid(a, b, c);
+      // the views' projections of the centroid, for the hull test and the patches
+      scratch.hidden = nullptr;
+      photo::detail::prepare_centre(views, X, opts, scratch);
+      if (!hull.inside_projected([&](int v) -> const Eigen::Vector3d& { return scratch.cache[v].h0; })) {
         outside[q] = 1;
       } else {
-        scratch.hidden = nullptr;
-        if (occl && occl->hidden_views(views, (a + b + c) / 3.0, mask.data()) > 0)
+        if (occl && occl->hidden_views(views, X, mask.data()) > 0) {
           scratch.hidden = mask.data(), hidden[q] = 1;
-        const photo::PatchResult p0 = photo::face_patch(views, a, b, c, opts, scratch);
-        const photo::PatchResult p1 = photo::face_patch(views, a, c, b, opts, scratch);
+          photo::detail::prepare_centre(views, X, opts, scratch);  // without the hidden views
+        }
+        photo::PatchResult p0, p1;
+        photo::face_patches_prepared(views, a, b, c, opts, scratch, p0, p1);
         R.omega[2 * static_cast<std::size_t>(f)] = p0.omega();
         R.omega[2 * static_cast<std::size_t>(f) + 1] = p1.omega();
         defined[q] = static_cast<std::uint8_t>(p0.valid() + p1.valid());
         scratch.hidden = nullptr;
       }
-      bar.tick();
+      if (progress) bar.tick();
     }
   }
   bar.done();

@@ -52,11 +52,15 @@ bool HullTest::in_core(const Eigen::Vector3d& X) const {
 }
 
 bool HullTest::pixel(std::size_t s, const Eigen::Vector3d& X, int& x, int& y) const {
+  return pixel_of(s, (*views_)[idx_[s]].project_h(X), x, y);
+}
+
+bool HullTest::pixel_of(std::size_t s, const Eigen::Vector3d& h, int& x, int& y) const {
   const photo::View& v = (*views_)[idx_[s]];
-  const Eigen::Vector3d h = v.project_h(X);
   if (!(h.z() > 0)) return false;
   return silhouette::nearest_pixel_in_image(Eigen::Vector2d(h.x() / h.z(), h.y() / h.z()), v.width, v.height, x, y);
 }
+
 
 bool HullTest::inside(const Eigen::Vector3d& X) const {
   for (std::size_t s = 0; s < idx_.size(); ++s) {

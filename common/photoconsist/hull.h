@@ -20,6 +20,16 @@ class HullTest {
   // core_px > 0 also sets up in_core() (label.hull_core_px: the hull-core prior).
   HullTest(const photo::Views& views, const std::vector<cv::Mat>& sil, double margin_px, double core_px = 0);
   bool inside(const Eigen::Vector3d& X) const;
+  // inside(X) when X's homogeneous projections are known: h_of(v) returns
+  // views[v].project_h(X) for view v of the views the test was made with.
+  template <class Projection>
+  bool inside_projected(const Projection& h_of) const {
+    for (std::size_t s = 0; s < idx_.size(); ++s) {
+      int x, y;
+      if (pixel_of(s, h_of(idx_[s]), x, y) && dilated_[s].at<std::uint8_t>(y, x) == 0) return false;
+    }
+    return true;
+  }
   // True when X projects at least core_px pixels inside the silhouette (distance to its
   // boundary, as label's prior measures it) in every view with a silhouette whose image
   // it falls in, and there is such a view. Always false when core_px is 0. With the
@@ -30,11 +40,13 @@ class HullTest {
   // box of its projection holds no (dilated) silhouette pixel. False means "maybe".
   bool triangle_outside(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) const;
   int num_silhouettes() const { return static_cast<int>(idx_.size()); }
+  const photo::Views* views() const { return views_; }
 
  private:
   // Nearest pixel (x, y) of X in the s-th view with a silhouette; false when X is behind
   // that camera or projects outside its image.
   bool pixel(std::size_t s, const Eigen::Vector3d& X, int& x, int& y) const;
+  bool pixel_of(std::size_t s, const Eigen::Vector3d& h, int& x, int& y) const;
   const photo::Views* views_ = nullptr;
   std::vector<int> idx_;          // views with a silhouette
   std::vector<cv::Mat> dilated_;  // their dilated silhouettes

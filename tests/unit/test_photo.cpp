@@ -329,6 +329,32 @@ TEST(FaceScore, OutwardHighInwardZero) {
   }
 }
 
+TEST(FaceScore, BothOrientationsAtOnceMatchTwoPatches) {
+  Options o;
+  Scratch scratch;
+  for (int w = 0; w < 3; ++w) {
+    const PlaneScene& s = scene(w);
+    const Eigen::Vector3d e1 = stable_perpendicular(s.N), e2 = s.N.cross(e1);
+    for (double tilt : {0.0, 0.4, -0.7}) {  // faces across the plane too: both sides may see views
+      const double h = 5.0 * s.footprint;
+      const Eigen::Vector3d a = s.O + 0.03 * e2, b = a + h * e1 + tilt * h * s.N, c = a + h * (0.3 * e1 + e2);
+      PatchResult front, back;
+      face_patches(views(w), a, b, c, o, scratch, front, back);
+      const PatchResult f1 = face_patch(views(w), a, b, c, o, scratch), b1 = face_patch(views(w), a, c, b, o, scratch);
+      EXPECT_EQ(front.valid(), f1.valid());
+      EXPECT_EQ(back.valid(), b1.valid());
+      EXPECT_NEAR(front.omega(), f1.omega(), 1e-5f) << w << " " << tilt;
+      EXPECT_NEAR(back.omega(), b1.omega(), 1e-5f) << w << " " << tilt;
+      EXPECT_EQ(front.ref, f1.ref);
+      EXPECT_EQ(back.ref, b1.ref);
+    }
+  }
+  PatchResult front, back;
+  face_patches(views(0), scene(0).O, scene(0).O, scene(0).O + Eigen::Vector3d(0.1, 0, 0), o, scratch, front, back);
+  EXPECT_FALSE(front.valid());
+  EXPECT_FALSE(back.valid());
+}
+
 TEST(FaceScore, TiltedOrOffsetFacesScoreLower) {
   Options o;
   o.mu = 11;  // the paper's 11 x 11 (the default 7 x 7 leaves the surface less when tilted)

@@ -541,6 +541,8 @@ TEST(PhotoconsistScene, HullCorePointsAreInsideTheObject) {
         const Eigen::Vector3d t((i + 0.5) / n, (j + 0.5) / n, (k + 0.5) / n);
         const Eigen::Vector3d X = box.min() + t.cwiseProduct(box.sizes());
         EXPECT_FALSE(F.hull->in_core(X));  // core_px 0: never
+        // the hull test from known projections is the same test
+        EXPECT_EQ(F.hull->inside_projected([&](int v) { return (*F.views)[v].project_h(X); }), F.hull->inside(X));
         const bool in = F.gt->inside(X), c3 = h3.in_core(X), c8 = h8.in_core(X);
         inside += in;
         core3 += c3;
