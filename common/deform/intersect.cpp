@@ -155,24 +155,88 @@ struct Grid {
 
 }  // namespace
 
+namespace {
+
+// Boxes (lo xyz, hi xyz per face) of the faces over the vertex positions of V and, when
+// given, of V1 as well.
+std::vector<double> face_boxes(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F,
+                               const std::vector<Eigen::Vector3d>* V1 = nullptr) {
+  const int nf = static_cast<int>(F.size());
+  std::vector<double> box(6 * static_cast<size_t>(nf));
+#pragma omp parallel for schedule(static)
+  for (int f = 0; f < nf; ++f) {
+    double* x = &box[6 * static_cast<size_t>(f)];
+    for (int d = 0; d < 3; ++d) {
+      x[d] = std::min({V[F[f][0]][d], V[F[f][1]][d], V[F[f][2]][d]});
+      x[3 + d] = std::max({V[F[f][0]][d], V[F[f][1]][d], V[F[f][2]][d]});
+      if (V1) {
+        const auto& W = *V1;
+        x[d] = std::min({x[d], W[F[f][0]][d], W[F[f][1]][d], W[F[f][2]][d]});
+        x[3 + d] = std::max({x[3 + d], W[F[f][0]][d], W[F[f][1]][d], W[F[f][2]][d]});
+      }
+    }
+  }
+  return box;
+}
+
+// Results per fixed chunk of n items, concatenated in order: deterministic.
+template <class Body>
+void run_chunks(int n, std::vector<std::pair<int, int>>& out, Body&& body) {
+  constexpr int kChunk = 2048;
+  const int nchunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::vector<std::pair<int, int>>> found(nchunks);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int ch = 0; ch < nchunks; ++ch)
+    for (int i = ch * kChunk; i < std::min(n, (ch + 1) * kChunk); ++i) body(i, found[ch]);
+  size_t total = out.size();
+  for (const auto& v : found) total += v.size();
+  out.reserve(total);
+  for (const auto& v : found) out.insert(out.end(), v.begin(), v.end());
+}
+
+}  // namespace
+
+MotionPairs::MotionPairs(const std::vector<Eigen::Vector3d>& V0, const std::vector<Eigen::Vector3d>& V1,
+                         const std::vector<Eigen::Vector3i>& F)
+    : F_(F) {
+  require(V0.size() == V1.size(), "MotionPairs: ", V0.size(), " start and ", V1.size(), " end positions");
+  const int nf = static_cast<int>(F.size());
+  if (nf < 2) return;
+  const std::vector<double> box = face_boxes(V0, F, &V1);
+  std::vector<int> all(nf);
+  std::iota(all.begin(), all.end(), 0);
+  Grid grid;
+  grid.build(box, all);
+  run_chunks(nf, pairs_, [&](int f, std::vector<std::pair<int, int>>& found) {
+    grid.overlapping(box, &box[6 * static_cast<size_t>(f)], [&](int g) {
+      int ti, ui;
+      if (g > f && shared_count(F[f], F[g], ti, ui) < 2) found.emplace_back(f, g);
+    });
+  });
+  std::sort(pairs_.begin(), pairs_.end());
+}
+
+std::vector<std::pair<int, int>> MotionPairs::intersections(const std::vector<Eigen::Vector3d>& V,
+                                                            const std::vector<char>& only_faces) const {
+  const bool filter = !only_faces.empty();
+  require(!filter || only_faces.size() == F_.size(), "MotionPairs::intersections: ", only_faces.size(),
+          " face flags for ", F_.size(), " faces");
+  std::vector<std::pair<int, int>> out;
+  run_chunks(static_cast<int>(pairs_.size()), out, [&](int k, std::vector<std::pair<int, int>>& found) {
+    const auto& p = pairs_[k];
+    if (filter && !only_faces[p.first] && !only_faces[p.second]) return;
+    if (triangles_cross(V, F_[p.first], F_[p.second])) found.push_back(p);
+  });
+  return out;  // in the order of the sorted list
+}
+
 std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vector3d>& V,
                                                     const std::vector<Eigen::Vector3i>& F,
                                                     const std::vector<char>& only_faces) {
   const int nf = static_cast<int>(F.size());
   std::vector<std::pair<int, int>> out;
   if (nf < 2) return out;
-  std::vector<double> box(6 * static_cast<size_t>(nf));
-#pragma omp parallel for schedule(static)
-  for (int f = 0; f < nf; ++f) {
-    const Eigen::Vector3d& a = V[F[f][0]];
-    const Eigen::Vector3d& b = V[F[f][1]];
-    const Eigen::Vector3d& c = V[F[f][2]];
-    double* x = &box[6 * static_cast<size_t>(f)];
-    for (int d = 0; d < 3; ++d) {
-      x[d] = std::min({a[d], b[d], c[d]});
-      x[3 + d] = std::max({a[d], b[d], c[d]});
-    }
-  }
+  const std::vector<double> box = face_boxes(V, F);
   const bool filter = !only_faces.empty();
   std::vector<int> query;
   if (filter) {
@@ -180,22 +244,12 @@ std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vec
       if (only_faces[f]) query.push_back(f);
     if (query.empty()) return out;
   }
-  // Results per fixed chunk of faces, concatenated in order and sorted: deterministic.
-  constexpr int kChunk = 2048;
-  const auto run_chunks = [&](int n, auto&& body) {
-    const int nchunks = (n + kChunk - 1) / kChunk;
-    std::vector<std::vector<std::pair<int, int>>> found(nchunks);
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int ch = 0; ch < nchunks; ++ch)
-      for (int i = ch * kChunk; i < std::min(n, (ch + 1) * kChunk); ++i) body(i, found[ch]);
-    for (const auto& v : found) out.insert(out.end(), v.begin(), v.end());
-  };
   Grid grid;
   if (filter && static_cast<long long>(query.size()) * 8 < nf) {
     // Few listed faces: a grid of those only, every face looked up in it. A pair of two
     // listed faces is tested from its lower face.
     grid.build(box, query);
-    run_chunks(nf, [&](int s, std::vector<std::pair<int, int>>& found) {
+    run_chunks(nf, out, [&](int s, std::vector<std::pair<int, int>>& found) {
       const double* bs = &box[6 * static_cast<size_t>(s)];
       if (grid.outside(bs)) return;
       grid.overlapping(box, bs, [&](int f) {
@@ -209,7 +263,7 @@ std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vec
     std::iota(all.begin(), all.end(), 0);
     grid.build(box, all);
     const int nq = filter ? static_cast<int>(query.size()) : nf;
-    run_chunks(nq, [&](int qi, std::vector<std::pair<int, int>>& found) {
+    run_chunks(nq, out, [&](int qi, std::vector<std::pair<int, int>>& found) {
       const int f = filter ? query[qi] : qi;
       grid.overlapping(box, &box[6 * static_cast<size_t>(f)], [&](int g) {
         if (g == f || (filter ? (only_faces[g] && g < f) : g < f)) return;

@@ -61,8 +61,8 @@ Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) 
     v = std::clamp(v, -lim, lim);
     p.pu = u;
     p.pv = v;
-    p.fx = std::llround(u * kSub);
-    p.fy = std::llround(v * kSub);
+    p.fx = round_nearest(u * kSub);
+    p.fy = round_nearest(v * kSub);
   }
   float* D = r.depth.ptr<float>();
   int* T = r.tri.ptr<int>();

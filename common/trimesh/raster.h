@@ -11,12 +11,20 @@
 // Triangles with a vertex at camera depth <= znear are skipped and counted.
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <opencv2/core.hpp>
 
 #include "common/camera.h"
 #include "common/trimesh/trimesh.h"
 
 namespace tetmvs {
+
+// std::llround (halves away from zero) without the library call; |x| < 2^62.
+inline std::int64_t round_nearest(double x) {
+  const auto t = static_cast<std::int64_t>(x);  // towards zero
+  const double r = x - static_cast<double>(t);   // exact
+  return t + static_cast<std::int64_t>(r >= 0.5) - static_cast<std::int64_t>(r <= -0.5);  // no branch
+}
 
 struct RasterOptions {
   int supersample = 1;      // s >= 1
