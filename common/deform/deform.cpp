@@ -364,9 +364,13 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     if (st.photo_level >= 0) {
       const int l = st.photo_level;
       if (photo_images.level != l) photo_images = make_photo_level(views, scene.cams, l);
-      std::vector<const Raster*> own;  // at full resolution the loop's rasters serve
-      if (l == 0)
-        for (const auto& r : rasters) own.push_back(&r.raster);
+      // the loop's rasters serve every level: a reduced level's pixels look along the rays
+      // of every 2^l-th full-resolution pixel (subsample)
+      std::vector<Raster> reduced(l > 0 ? nc : 0);
+#pragma omp parallel for schedule(dynamic, 1)
+      for (int i = 0; i < static_cast<int>(reduced.size()); ++i) reduced[i] = subsample(rasters[i].raster, l);
+      std::vector<const Raster*> own;
+      for (int i = 0; i < nc; ++i) own.push_back(l > 0 ? &reduced[i] : &rasters[i].raster);
       const PhotometricGradient pg = photometric_gradient(M.V, M.F, N, photo_images, partners, opt.photo_window, own);
       fphoto = photometric_steps(pg, topo, l, M.fp);
       st.mean_ncc = pg.mean_ncc;

@@ -14,9 +14,11 @@ bool segment_crosses_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q
   // passing strictly inside the three edges.
   const auto vol = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y, const Eigen::Vector3d& z,
                       const Eigen::Vector3d& w) { return (y - x).cross(z - x).dot(w - x); };
+  const Eigen::Vector3d n = (b - a).cross(c - a);  // the plane's, shared by p and q
+  const double sp = n.dot(p - a), sq = n.dot(q - a);
+  if (!((sp > 0 && sq < 0) || (sp < 0 && sq > 0))) return false;  // the test below fails too
   const double scale = std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), (q - p).squaredNorm()});
   const double eps = 1e-12 * scale * std::sqrt(scale);
-  const double sp = vol(a, b, c, p), sq = vol(a, b, c, q);
   if (!((sp > eps && sq < -eps) || (sp < -eps && sq > eps))) return false;
   const double s1 = vol(p, q, a, b), s2 = vol(p, q, b, c), s3 = vol(p, q, c, a);
   return (s1 > eps && s2 > eps && s3 > eps) || (s1 < -eps && s2 < -eps && s3 < -eps);
@@ -49,9 +51,22 @@ bool triangles_cross(const std::vector<Eigen::Vector3d>& V, const Eigen::Vector3
     const Eigen::Vector3d& q2 = V[u[(ui + 2) % 3]];
     return segment_crosses_triangle(p1, p2, d, e, f) || segment_crosses_triangle(q1, q2, a, b, c);
   }
-  return segment_crosses_triangle(a, b, d, e, f) || segment_crosses_triangle(b, c, d, e, f) ||
-         segment_crosses_triangle(c, a, d, e, f) || segment_crosses_triangle(d, e, a, b, c) ||
-         segment_crosses_triangle(e, f, a, b, c) || segment_crosses_triangle(f, d, a, b, c);
+  // an edge crosses a triangle only between vertices strictly on either side of its plane
+  // (segment_crosses_triangle's first test, with the same volumes): when one triangle lies
+  // wholly on one side of the other's plane, none of its edges need testing
+  const auto one_side = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y, const Eigen::Vector3d& z,
+                           const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
+    const Eigen::Vector3d n = (y - x).cross(z - x);
+    const double vp = n.dot(p - x), vq = n.dot(q - x), vr = n.dot(r - x);
+    return (vp >= 0 && vq >= 0 && vr >= 0) || (vp <= 0 && vq <= 0 && vr <= 0);
+  };
+  if (!one_side(d, e, f, a, b, c) &&
+      (segment_crosses_triangle(a, b, d, e, f) || segment_crosses_triangle(b, c, d, e, f) ||
+       segment_crosses_triangle(c, a, d, e, f)))
+    return true;
+  return !one_side(a, b, c, d, e, f) && (segment_crosses_triangle(d, e, a, b, c) ||
+                                         segment_crosses_triangle(e, f, a, b, c) ||
+                                         segment_crosses_triangle(f, d, a, b, c));
 }
 
 }  // namespace
@@ -64,6 +79,7 @@ struct Grid {
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, inv = 1;
   int n[3] = {1, 1, 1};
   std::vector<int> start, items;
+  std::vector<int> low;  // per face of the box list: the cell of its box's low corner (listed faces only)
 
   int coord(double x, int d) const {
     const double t = std::floor((x - lo[d]) * inv);
@@ -121,9 +137,11 @@ struct Grid {
     for (size_t q = 0; q < nc; ++q) start[q + 1] += start[q];
     items.resize(start[nc]);
     std::vector<int> pos(start.begin(), start.end() - 1);
+    low.assign(box.size() / 2, 0);
     for (int f : faces) {
       int r[6];
       range(&box[6 * static_cast<size_t>(f)], r);
+      for (int d = 0; d < 3; ++d) low[3 * static_cast<size_t>(f) + d] = r[d];
       for (int z = r[2]; z <= r[5]; ++z)
         for (int y = r[1]; y <= r[4]; ++y)
           for (int x = r[0]; x <= r[3]; ++x) items[pos[cell(x, y, z)]++] = f;
@@ -131,7 +149,8 @@ struct Grid {
   }
 
   // Calls visit(g) for every listed face g whose box overlaps box b, once per g: in the
-  // cell holding the low corner of the two boxes' intersection.
+  // cell holding the low corner of the two boxes' intersection (coord is monotone: that
+  // cell is the larger of the two boxes' low cells, compared in integers first).
   template <class Visit>
   void overlapping(const std::vector<double>& box, const double* b, Visit&& visit) const {
     int r[6];
@@ -142,11 +161,10 @@ struct Grid {
           const size_t c = cell(x, y, z);
           for (int q = start[c]; q < start[c + 1]; ++q) {
             const int g = items[q];
+            const int* lg = &low[3 * static_cast<size_t>(g)];
+            if (std::max(r[0], lg[0]) != x || std::max(r[1], lg[1]) != y || std::max(r[2], lg[2]) != z) continue;
             const double* bg = &box[6 * static_cast<size_t>(g)];
             if (bg[0] > b[3] || b[0] > bg[3] || bg[1] > b[4] || b[1] > bg[4] || bg[2] > b[5] || b[2] > bg[5]) continue;
-            if (coord(std::max(b[0], bg[0]), 0) != x || coord(std::max(b[1], bg[1]), 1) != y ||
-                coord(std::max(b[2], bg[2]), 2) != z)
-              continue;
             visit(g);
           }
         }

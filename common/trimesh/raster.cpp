@@ -154,6 +154,32 @@ cv::Mat Raster::centre_mask() const {
   return mask;
 }
 
+Raster subsample(const Raster& r, int level) {
+  require(r.ss == 1, "subsample: the raster is supersampled (", r.ss, ")");
+  require(level >= 0 && level <= 12, "subsample: pyramid level ", level, " must lie in [0, 12]");
+  Raster out;
+  out.width = r.width;
+  out.height = r.height;
+  for (int l = 0; l < level; ++l) {
+    out.width = (out.width + 1) / 2;
+    out.height = (out.height + 1) / 2;
+  }
+  out.skipped_near = r.skipped_near;
+  out.depth.create(out.height, out.width, CV_32F);
+  out.tri.create(out.height, out.width, CV_32S);
+  for (int y = 0; y < out.height; ++y) {
+    const float* d = r.depth.ptr<float>(y << level);
+    const int* t = r.tri.ptr<int>(y << level);
+    float* od = out.depth.ptr<float>(y);
+    int* ot = out.tri.ptr<int>(y);
+    for (int x = 0; x < out.width; ++x) {
+      od[x] = d[x << level];
+      ot[x] = t[x << level];
+    }
+  }
+  return out;
+}
+
 bool pixel_point_on_triangle(const TriMesh& m, int f, const Camera& cam, double u, double v, Eigen::Vector3d& X) {
   const Eigen::Vector3d C = cam.centre();
   const Eigen::Vector3d d = cam.R.transpose() * (cam.K.inverse() * Eigen::Vector3d(u, v, 1.0));

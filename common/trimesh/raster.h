@@ -50,6 +50,13 @@ struct Raster {
 // Camera width/height must be set (> 0).
 Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt = {});
 
+// The raster of the same camera with the first two rows of K divided by 2^level and the
+// image halved (rounding up) level times (a pyramid level): its pixel (x, y) sees along the
+// ray of r's pixel (x 2^level, y 2^level), whose depth and triangle it takes. Equal to
+// rasterising at that level up to the snapping of vertices (1/256 of a sample) on samples
+// that lie on a triangle's edge. Needs r.ss == 1.
+Raster subsample(const Raster& r, int level);
+
 // World point on triangle f under continuous pixel (u, v) (ray-plane intersection).
 // Returns false when the ray is parallel to the triangle plane.
 bool pixel_point_on_triangle(const TriMesh& m, int f, const Camera& cam, double u, double v,
