@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 #include <ctime>
 #include <opencv2/imgproc.hpp>
 
@@ -147,16 +148,21 @@ std::vector<std::pair<int, int>> intersections_after_remesh(const std::vector<Ei
   std::vector<std::pair<std::uint64_t, int>> old(nf0);
 #pragma omp parallel for schedule(static)
   for (int f = 0; f < nf0; ++f) old[f] = {key_hash(face_key(V0, F0[f])), f};
-  std::sort(old.begin(), old.end());
-  std::vector<int> match(nf, -1);
+  std::vector<std::pair<std::uint64_t, int>> cur(nf);
 #pragma omp parallel for schedule(static)
-  for (int f = 0; f < nf; ++f) {
-    const FaceKey k = face_key(V, F[f]);
-    const std::uint64_t h = key_hash(k);
-    for (auto it = std::lower_bound(old.begin(), old.end(), std::make_pair(h, -1)); it != old.end() && it->first == h;
-         ++it)
-      if (face_key(V0, F0[it->second]) == k) {
-        match[f] = it->second;
+  for (int f = 0; f < nf; ++f) cur[f] = {key_hash(face_key(V, F[f])), f};
+  std::sort(old.begin(), old.end());
+  std::sort(cur.begin(), cur.end());
+  // both lists walked together (a binary search per face is a cache miss per step)
+  std::vector<int> match(nf, -1);
+  size_t o = 0;
+  for (size_t c = 0; c < cur.size(); ++c) {
+    const std::uint64_t h = cur[c].first;
+    while (o < old.size() && old[o].first < h) ++o;
+    const FaceKey k = face_key(V, F[cur[c].second]);
+    for (size_t it = o; it < old.size() && old[it].first == h; ++it)
+      if (face_key(V0, F0[old[it].second]) == k) {
+        match[cur[c].second] = old[it].second;
         break;
       }
   }
@@ -346,12 +352,10 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     st.silhouette_iou = mean_iou(rasters, scene);
     if (it == 0) res.start_iou = st.silhouette_iou;
     pt.lap(kPartRaster);
-    const std::vector<std::uint8_t> vis = vertex_visibility(M.V, scene.cams, rasters, opt.visibility_tol_px);
-    pt.lap(kPartVisibility);
 
     const std::vector<Eigen::Vector3d> fs = smooth_force(M.V, topo, N, opt);
     std::vector<int> rim;
-    const std::vector<Eigen::Vector3d> fsil = silhouette_force(M.V, N, M.fp, scene.cams, sd, rasters, vis, opt, rim);
+    const std::vector<Eigen::Vector3d> fsil = silhouette_force(M.V, N, M.fp, scene.cams, sd, rasters, opt, rim);
     pt.lap(kPartSmoothSil);
     // The photometric step along the normal; where the silhouette force acts (disagreement
     // beyond sil_tolerance_px) the silhouettes win: both move a rim vertex across the ray.
@@ -360,9 +364,13 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     if (st.photo_level >= 0) {
       const int l = st.photo_level;
       if (photo_images.level != l) photo_images = make_photo_level(views, scene.cams, l);
-      std::vector<const Raster*> own;  // at full resolution the loop's rasters serve
-      if (l == 0)
-        for (const auto& r : rasters) own.push_back(&r.raster);
+      // the loop's rasters serve every level: a reduced level's pixels look along the rays
+      // of every 2^l-th full-resolution pixel (subsample)
+      std::vector<Raster> reduced(l > 0 ? nc : 0);
+#pragma omp parallel for schedule(dynamic, 1)
+      for (int i = 0; i < static_cast<int>(reduced.size()); ++i) reduced[i] = subsample(rasters[i].raster, l);
+      std::vector<const Raster*> own;
+      for (int i = 0; i < nc; ++i) own.push_back(l > 0 ? &reduced[i] : &rasters[i].raster);
       const PhotometricGradient pg = photometric_gradient(M.V, M.F, N, photo_images, partners, opt.photo_window, own);
       fphoto = photometric_steps(pg, topo, l, M.fp);
       st.mean_ncc = pg.mean_ncc;
@@ -395,7 +403,9 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     std::vector<Eigen::Vector3d> V1(nv);
     for (int v = 0; v < nv; ++v) V1[v] = M.V[v] + move[v];
     std::vector<char> reduced(nv, 0);
-    std::vector<std::pair<int, int>> pairs = self_intersections(V1, M.F);
+    // every retry's positions lie between M.V and V1: the candidate pairs are found once
+    const MotionPairs candidates(M.V, V1, M.F);
+    std::vector<std::pair<int, int>> pairs = candidates.intersections(V1);
     for (int attempt = 0;; ++attempt) {
       std::vector<std::pair<int, int>> fresh;
       for (const auto& p : pairs)
@@ -415,7 +425,12 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
       std::vector<char> changed(M.F.size(), 0);
       for (size_t f = 0; f < M.F.size(); ++f)
         changed[f] = changed_v[M.F[f][0]] || changed_v[M.F[f][1]] || changed_v[M.F[f][2]];
-      pairs = update_intersections(V1, M.F, pairs, changed);
+      std::vector<std::pair<int, int>> kept;
+      for (const auto& p : pairs)
+        if (!changed[p.first] && !changed[p.second]) kept.push_back(p);
+      const auto fresh_pairs = candidates.intersections(V1, changed);
+      pairs.clear();
+      std::merge(kept.begin(), kept.end(), fresh_pairs.begin(), fresh_pairs.end(), std::back_inserter(pairs));
     }
     double sum_move = 0, sum_px = 0, max_px = 0;
     for (int v = 0; v < nv; ++v) {
@@ -467,21 +482,20 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
   res.mesh.V = M.V;
   res.mesh.F = M.F;
   res.final_intersections = static_cast<std::int64_t>(current.size());
-  {
-    const auto rasters = rasterize_all(res.mesh, scene);
-    res.final_iou = mean_iou(rasters, scene);
-  }
+  const auto rasters = rasterize_all(res.mesh, scene);
+  res.final_iou = mean_iou(rasters, scene);
   compute_vertex_normals(res.mesh);
-  sample_vertex_colours(res.mesh, scene, opt.visibility_tol_px);
+  sample_vertex_colours(res.mesh, scene, opt.visibility_tol_px, &rasters);
   res.footprint = median(vertex_footprints(M.V, scene.cams, fallback_fp));
   return res;
 }
 
-void sample_vertex_colours(TriMesh& m, const Scene& scene, double tol_px) {
+void sample_vertex_colours(TriMesh& m, const Scene& scene, double tol_px, const std::vector<ViewRaster>* rasters) {
   require(m.N.size() == m.V.size(), "sample_vertex_colours: the mesh has no vertex normals");
   const int nv = static_cast<int>(m.nv()), nc = scene.size();
-  const auto rasters = rasterize_all(m, scene);
-  const auto vis = vertex_visibility(m.V, scene.cams, rasters, tol_px);
+  require(!rasters || static_cast<int>(rasters->size()) == nc, "sample_vertex_colours: ", rasters ? rasters->size() : 0,
+          " rasters for ", nc, " views");
+  const auto vis = vertex_visibility(m.V, scene.cams, rasters ? *rasters : rasterize_all(m, scene), tol_px);
   m.C.assign(nv, {128, 128, 128});
   if (static_cast<int>(scene.rgb.size()) != nc) return;
 #pragma omp parallel for schedule(static)

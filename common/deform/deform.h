@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/deform/forces.h"
 #include "common/deform/options.h"
 #include "common/scene.h"
 #include "common/trimesh/trimesh.h"
@@ -28,8 +29,7 @@ enum IterationPart {
   kPartFootprints,
   kPartTopology,
   kPartRaster,
-  kPartVisibility,
-  kPartSmoothSil,
+  kPartSmoothSil,  // with the visibility tests of the rim candidates
   kPartPhoto,
   kPartMove,  // move + intersection checks and retries
   kPartRemesh,
@@ -37,8 +37,8 @@ enum IterationPart {
   kPartUntangle,
   kNumParts
 };
-inline constexpr const char* kPartNames[kNumParts] = {"footprints", "topology", "raster",    "visibility",   "smooth+sil",
-                                                      "photo",      "move+isect", "remesh", "remesh-isect", "untangle"};
+inline constexpr const char* kPartNames[kNumParts] = {"footprints", "topology",   "raster", "smooth+sil",  "photo",
+                                                      "move+isect", "remesh", "remesh-isect", "untangle"};
 
 struct IterationStats {
   int iteration = 0;
@@ -75,8 +75,9 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
 
 // Per-vertex colours of m from each vertex's best view: the largest cos(normal, direction
 // to the camera) among the views in which it is visible; grey where none sees it.
-// m.N must be set.
-void sample_vertex_colours(TriMesh& m, const Scene& scene, double visibility_tol_px);
+// m.N must be set. rasters: m's rasters of every view (rasterize_view) when at hand.
+void sample_vertex_colours(TriMesh& m, const Scene& scene, double visibility_tol_px,
+                           const std::vector<ViewRaster>* rasters = nullptr);
 
 // Writes the statistics file (schemas/deform.md) and commits it.
 void write_stats(const std::filesystem::path& file, const Result& r, const std::string& stage,

@@ -79,6 +79,20 @@ std::vector<double> vertex_footprints(const std::vector<Eigen::Vector3d>& V, con
   return fp;
 }
 
+namespace {
+// Vertex X in front of view c, inside its image and not behind the view's z-buffer by more
+// than tol_px pixel footprints; p receives its projection.
+inline bool visible_in(const Eigen::Vector3d& X, const Camera& c, const ViewRaster& r, double tol_px,
+                       Eigen::Vector2d& p) {
+  const double d = c.depth(X);
+  if (!(d > 0)) return false;
+  p = c.project(X);  // c.sees(X), projecting once
+  if (!(p.x() >= 0.0 && p.y() >= 0.0 && p.x() <= c.width - 1 - 0.0 && p.y() <= c.height - 1 - 0.0)) return false;
+  const int x = static_cast<int>(round_nearest(p.x())), y = static_cast<int>(round_nearest(p.y()));
+  return !(d > r.depth.at<float>(y, x) + tol_px * d / c.focal());
+}
+}  // namespace
+
 std::vector<std::uint8_t> vertex_visibility(const std::vector<Eigen::Vector3d>& V, const std::vector<Camera>& cams,
                                             const std::vector<ViewRaster>& rasters, double tol_px) {
   const int nv = static_cast<int>(V.size()), nc = static_cast<int>(cams.size());
@@ -86,14 +100,8 @@ std::vector<std::uint8_t> vertex_visibility(const std::vector<Eigen::Vector3d>& 
 #pragma omp parallel for schedule(static)
   for (int v = 0; v < nv; ++v)
     for (int i = 0; i < nc; ++i) {
-      const Camera& c = cams[i];
-      const double d = c.depth(V[v]);
-      if (!(d > 0)) continue;
-      const Eigen::Vector2d p = c.project(V[v]);  // c.sees(X), projecting once
-      if (!(p.x() >= 0.0 && p.y() >= 0.0 && p.x() <= c.width - 1 - 0.0 && p.y() <= c.height - 1 - 0.0)) continue;
-      const int x = static_cast<int>(std::lround(p.x())), y = static_cast<int>(std::lround(p.y()));
-      const float z = rasters[i].depth.at<float>(y, x);
-      vis[static_cast<size_t>(v) * nc + i] = !(d > z + tol_px * d / c.focal());
+      Eigen::Vector2d p;
+      vis[static_cast<size_t>(v) * nc + i] = visible_in(V[v], cams[i], rasters[i], tol_px, p);
     }
   return vis;
 }
@@ -125,8 +133,7 @@ std::vector<Eigen::Vector3d> smooth_force(const std::vector<Eigen::Vector3d>& V,
 std::vector<Eigen::Vector3d> silhouette_force(const std::vector<Eigen::Vector3d>& V,
                                               const std::vector<Eigen::Vector3d>& N, const std::vector<double>& fp,
                                               const std::vector<Camera>& cams, const std::vector<cv::Mat>& sd,
-                                              const std::vector<ViewRaster>& rasters,
-                                              const std::vector<std::uint8_t>& vis, const Options& opt,
+                                              const std::vector<ViewRaster>& rasters, const Options& opt,
                                               std::vector<int>& rim_views) {
   const int nv = static_cast<int>(V.size()), nc = static_cast<int>(cams.size());
   std::vector<Eigen::Vector3d> out(nv, Eigen::Vector3d::Zero());
@@ -139,13 +146,14 @@ std::vector<Eigen::Vector3d> silhouette_force(const std::vector<Eigen::Vector3d>
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     int count = 0;
     for (int i = 0; i < nc; ++i) {
-      if (sd[i].empty() || !vis[static_cast<size_t>(v) * nc + i]) continue;
+      if (sd[i].empty()) continue;
       const Camera& c = cams[i];
       const Eigen::Vector3d r = (X - c.centre()).normalized();
       const double cr = n.dot(r);
       if (std::abs(cr) >= opt.rim_cos) continue;
-      const Eigen::Vector2d p = c.project(X);
-      const int x = static_cast<int>(std::lround(p.x())), y = static_cast<int>(std::lround(p.y()));
+      Eigen::Vector2d p;  // visibility only where the rest is needed: most views are not rims
+      if (!visible_in(X, c, rasters[i], opt.visibility_tol_px, p)) continue;
+      const int x = static_cast<int>(round_nearest(p.x())), y = static_cast<int>(round_nearest(p.y()));
       const float sd_mesh = rasters[i].sd.at<float>(y, x);
       if (sd_mesh < -opt.sil_band_px) continue;  // not near the mesh's own silhouette boundary
       const Eigen::Vector3d np = (n - cr * r).normalized();

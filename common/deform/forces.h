@@ -53,7 +53,7 @@ std::vector<Eigen::Vector3d> smooth_force(const std::vector<Eigen::Vector3d>& V,
                                           const std::vector<Eigen::Vector3d>& N, const Options& opt);
 
 // Silhouette displacement per vertex (mean over the views where the vertex is on the
-// rim: visible, |n . ray| < rim_cos, within sil_band_px inside the mesh's own rendered
+// rim: visible (as vertex_visibility with opt.visibility_tol_px), |n . ray| < rim_cos, within sil_band_px inside the mesh's own rendered
 // silhouette). In a view, the vertex moves across the ray (along n minus its ray
 // component) so that the mesh's contour near it lands on the true one: by
 // (sd_true - sd_mesh) / slope, less sil_tolerance_px, clamped to sil_max_px. rim_views[v] receives the number
@@ -62,8 +62,7 @@ std::vector<Eigen::Vector3d> smooth_force(const std::vector<Eigen::Vector3d>& V,
 std::vector<Eigen::Vector3d> silhouette_force(const std::vector<Eigen::Vector3d>& V,
                                               const std::vector<Eigen::Vector3d>& N, const std::vector<double>& fp,
                                               const std::vector<Camera>& cams, const std::vector<cv::Mat>& sd,
-                                              const std::vector<ViewRaster>& rasters,
-                                              const std::vector<std::uint8_t>& vis, const Options& opt,
+                                              const std::vector<ViewRaster>& rasters, const Options& opt,
                                               std::vector<int>& rim_views);
 
 }  // namespace tetmvs::deform

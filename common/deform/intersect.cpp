@@ -14,9 +14,11 @@ bool segment_crosses_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q
   // passing strictly inside the three edges.
   const auto vol = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y, const Eigen::Vector3d& z,
                       const Eigen::Vector3d& w) { return (y - x).cross(z - x).dot(w - x); };
+  const Eigen::Vector3d n = (b - a).cross(c - a);  // the plane's, shared by p and q
+  const double sp = n.dot(p - a), sq = n.dot(q - a);
+  if (!((sp > 0 && sq < 0) || (sp < 0 && sq > 0))) return false;  // the test below fails too
   const double scale = std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), (q - p).squaredNorm()});
   const double eps = 1e-12 * scale * std::sqrt(scale);
-  const double sp = vol(a, b, c, p), sq = vol(a, b, c, q);
   if (!((sp > eps && sq < -eps) || (sp < -eps && sq > eps))) return false;
   const double s1 = vol(p, q, a, b), s2 = vol(p, q, b, c), s3 = vol(p, q, c, a);
   return (s1 > eps && s2 > eps && s3 > eps) || (s1 < -eps && s2 < -eps && s3 < -eps);
@@ -49,9 +51,22 @@ bool triangles_cross(const std::vector<Eigen::Vector3d>& V, const Eigen::Vector3
     const Eigen::Vector3d& q2 = V[u[(ui + 2) % 3]];
     return segment_crosses_triangle(p1, p2, d, e, f) || segment_crosses_triangle(q1, q2, a, b, c);
   }
-  return segment_crosses_triangle(a, b, d, e, f) || segment_crosses_triangle(b, c, d, e, f) ||
-         segment_crosses_triangle(c, a, d, e, f) || segment_crosses_triangle(d, e, a, b, c) ||
-         segment_crosses_triangle(e, f, a, b, c) || segment_crosses_triangle(f, d, a, b, c);
+  // an edge crosses a triangle only between vertices strictly on either side of its plane
+  // (segment_crosses_triangle's first test, with the same volumes): when one triangle lies
+  // wholly on one side of the other's plane, none of its edges need testing
+  const auto one_side = [](const Eigen::Vector3d& x, const Eigen::Vector3d& y, const Eigen::Vector3d& z,
+                           const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& r) {
+    const Eigen::Vector3d n = (y - x).cross(z - x);
+    const double vp = n.dot(p - x), vq = n.dot(q - x), vr = n.dot(r - x);
+    return (vp >= 0 && vq >= 0 && vr >= 0) || (vp <= 0 && vq <= 0 && vr <= 0);
+  };
+  if (!one_side(d, e, f, a, b, c) &&
+      (segment_crosses_triangle(a, b, d, e, f) || segment_crosses_triangle(b, c, d, e, f) ||
+       segment_crosses_triangle(c, a, d, e, f)))
+    return true;
+  return !one_side(a, b, c, d, e, f) && (segment_crosses_triangle(d, e, a, b, c) ||
+                                         segment_crosses_triangle(e, f, a, b, c) ||
+                                         segment_crosses_triangle(f, d, a, b, c));
 }
 
 }  // namespace
@@ -64,6 +79,7 @@ struct Grid {
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, inv = 1;
   int n[3] = {1, 1, 1};
   std::vector<int> start, items;
+  std::vector<int> low;  // per face of the box list: the cell of its box's low corner (listed faces only)
 
   int coord(double x, int d) const {
     const double t = std::floor((x - lo[d]) * inv);
@@ -121,9 +137,11 @@ struct Grid {
     for (size_t q = 0; q < nc; ++q) start[q + 1] += start[q];
     items.resize(start[nc]);
     std::vector<int> pos(start.begin(), start.end() - 1);
+    low.assign(box.size() / 2, 0);
     for (int f : faces) {
       int r[6];
       range(&box[6 * static_cast<size_t>(f)], r);
+      for (int d = 0; d < 3; ++d) low[3 * static_cast<size_t>(f) + d] = r[d];
       for (int z = r[2]; z <= r[5]; ++z)
         for (int y = r[1]; y <= r[4]; ++y)
           for (int x = r[0]; x <= r[3]; ++x) items[pos[cell(x, y, z)]++] = f;
@@ -131,7 +149,8 @@ struct Grid {
   }
 
   // Calls visit(g) for every listed face g whose box overlaps box b, once per g: in the
-  // cell holding the low corner of the two boxes' intersection.
+  // cell holding the low corner of the two boxes' intersection (coord is monotone: that
+  // cell is the larger of the two boxes' low cells, compared in integers first).
   template <class Visit>
   void overlapping(const std::vector<double>& box, const double* b, Visit&& visit) const {
     int r[6];
@@ -142,11 +161,10 @@ struct Grid {
           const size_t c = cell(x, y, z);
           for (int q = start[c]; q < start[c + 1]; ++q) {
             const int g = items[q];
+            const int* lg = &low[3 * static_cast<size_t>(g)];
+            if (std::max(r[0], lg[0]) != x || std::max(r[1], lg[1]) != y || std::max(r[2], lg[2]) != z) continue;
             const double* bg = &box[6 * static_cast<size_t>(g)];
             if (bg[0] > b[3] || b[0] > bg[3] || bg[1] > b[4] || b[1] > bg[4] || bg[2] > b[5] || b[2] > bg[5]) continue;
-            if (coord(std::max(b[0], bg[0]), 0) != x || coord(std::max(b[1], bg[1]), 1) != y ||
-                coord(std::max(b[2], bg[2]), 2) != z)
-              continue;
             visit(g);
           }
         }
@@ -155,24 +173,88 @@ struct Grid {
 
 }  // namespace
 
+namespace {
+
+// Boxes (lo xyz, hi xyz per face) of the faces over the vertex positions of V and, when
+// given, of V1 as well.
+std::vector<double> face_boxes(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F,
+                               const std::vector<Eigen::Vector3d>* V1 = nullptr) {
+  const int nf = static_cast<int>(F.size());
+  std::vector<double> box(6 * static_cast<size_t>(nf));
+#pragma omp parallel for schedule(static)
+  for (int f = 0; f < nf; ++f) {
+    double* x = &box[6 * static_cast<size_t>(f)];
+    for (int d = 0; d < 3; ++d) {
+      x[d] = std::min({V[F[f][0]][d], V[F[f][1]][d], V[F[f][2]][d]});
+      x[3 + d] = std::max({V[F[f][0]][d], V[F[f][1]][d], V[F[f][2]][d]});
+      if (V1) {
+        const auto& W = *V1;
+        x[d] = std::min({x[d], W[F[f][0]][d], W[F[f][1]][d], W[F[f][2]][d]});
+        x[3 + d] = std::max({x[3 + d], W[F[f][0]][d], W[F[f][1]][d], W[F[f][2]][d]});
+      }
+    }
+  }
+  return box;
+}
+
+// Results per fixed chunk of n items, concatenated in order: deterministic.
+template <class Body>
+void run_chunks(int n, std::vector<std::pair<int, int>>& out, Body&& body) {
+  constexpr int kChunk = 2048;
+  const int nchunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::vector<std::pair<int, int>>> found(nchunks);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int ch = 0; ch < nchunks; ++ch)
+    for (int i = ch * kChunk; i < std::min(n, (ch + 1) * kChunk); ++i) body(i, found[ch]);
+  size_t total = out.size();
+  for (const auto& v : found) total += v.size();
+  out.reserve(total);
+  for (const auto& v : found) out.insert(out.end(), v.begin(), v.end());
+}
+
+}  // namespace
+
+MotionPairs::MotionPairs(const std::vector<Eigen::Vector3d>& V0, const std::vector<Eigen::Vector3d>& V1,
+                         const std::vector<Eigen::Vector3i>& F)
+    : F_(F) {
+  require(V0.size() == V1.size(), "MotionPairs: ", V0.size(), " start and ", V1.size(), " end positions");
+  const int nf = static_cast<int>(F.size());
+  if (nf < 2) return;
+  const std::vector<double> box = face_boxes(V0, F, &V1);
+  std::vector<int> all(nf);
+  std::iota(all.begin(), all.end(), 0);
+  Grid grid;
+  grid.build(box, all);
+  run_chunks(nf, pairs_, [&](int f, std::vector<std::pair<int, int>>& found) {
+    grid.overlapping(box, &box[6 * static_cast<size_t>(f)], [&](int g) {
+      int ti, ui;
+      if (g > f && shared_count(F[f], F[g], ti, ui) < 2) found.emplace_back(f, g);
+    });
+  });
+  std::sort(pairs_.begin(), pairs_.end());
+}
+
+std::vector<std::pair<int, int>> MotionPairs::intersections(const std::vector<Eigen::Vector3d>& V,
+                                                            const std::vector<char>& only_faces) const {
+  const bool filter = !only_faces.empty();
+  require(!filter || only_faces.size() == F_.size(), "MotionPairs::intersections: ", only_faces.size(),
+          " face flags for ", F_.size(), " faces");
+  std::vector<std::pair<int, int>> out;
+  run_chunks(static_cast<int>(pairs_.size()), out, [&](int k, std::vector<std::pair<int, int>>& found) {
+    const auto& p = pairs_[k];
+    if (filter && !only_faces[p.first] && !only_faces[p.second]) return;
+    if (triangles_cross(V, F_[p.first], F_[p.second])) found.push_back(p);
+  });
+  return out;  // in the order of the sorted list
+}
+
 std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vector3d>& V,
                                                     const std::vector<Eigen::Vector3i>& F,
                                                     const std::vector<char>& only_faces) {
   const int nf = static_cast<int>(F.size());
   std::vector<std::pair<int, int>> out;
   if (nf < 2) return out;
-  std::vector<double> box(6 * static_cast<size_t>(nf));
-#pragma omp parallel for schedule(static)
-  for (int f = 0; f < nf; ++f) {
-    const Eigen::Vector3d& a = V[F[f][0]];
-    const Eigen::Vector3d& b = V[F[f][1]];
-    const Eigen::Vector3d& c = V[F[f][2]];
-    double* x = &box[6 * static_cast<size_t>(f)];
-    for (int d = 0; d < 3; ++d) {
-      x[d] = std::min({a[d], b[d], c[d]});
-      x[3 + d] = std::max({a[d], b[d], c[d]});
-    }
-  }
+  const std::vector<double> box = face_boxes(V, F);
   const bool filter = !only_faces.empty();
   std::vector<int> query;
   if (filter) {
@@ -180,22 +262,12 @@ std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vec
       if (only_faces[f]) query.push_back(f);
     if (query.empty()) return out;
   }
-  // Results per fixed chunk of faces, concatenated in order and sorted: deterministic.
-  constexpr int kChunk = 2048;
-  const auto run_chunks = [&](int n, auto&& body) {
-    const int nchunks = (n + kChunk - 1) / kChunk;
-    std::vector<std::vector<std::pair<int, int>>> found(nchunks);
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int ch = 0; ch < nchunks; ++ch)
-      for (int i = ch * kChunk; i < std::min(n, (ch + 1) * kChunk); ++i) body(i, found[ch]);
-    for (const auto& v : found) out.insert(out.end(), v.begin(), v.end());
-  };
   Grid grid;
   if (filter && static_cast<long long>(query.size()) * 8 < nf) {
     // Few listed faces: a grid of those only, every face looked up in it. A pair of two
     // listed faces is tested from its lower face.
     grid.build(box, query);
-    run_chunks(nf, [&](int s, std::vector<std::pair<int, int>>& found) {
+    run_chunks(nf, out, [&](int s, std::vector<std::pair<int, int>>& found) {
       const double* bs = &box[6 * static_cast<size_t>(s)];
       if (grid.outside(bs)) return;
       grid.overlapping(box, bs, [&](int f) {
@@ -209,7 +281,7 @@ std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vec
     std::iota(all.begin(), all.end(), 0);
     grid.build(box, all);
     const int nq = filter ? static_cast<int>(query.size()) : nf;
-    run_chunks(nq, [&](int qi, std::vector<std::pair<int, int>>& found) {
+    run_chunks(nq, out, [&](int qi, std::vector<std::pair<int, int>>& found) {
       const int f = filter ? query[qi] : qi;
       grid.overlapping(box, &box[6 * static_cast<size_t>(f)], [&](int g) {
         if (g == f || (filter ? (only_faces[g] && g < f) : g < f)) return;

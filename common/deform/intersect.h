@@ -24,4 +24,24 @@ std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vec
                                                     const std::vector<Eigen::Vector3i>& F,
                                                     const std::vector<char>& only_faces = {});
 
+// The face pairs that can intersect while every vertex moves on the segment from V0[v] to
+// V1[v] (e.g. a step scaled down by retries): those whose boxes, each taken over both end
+// states, overlap; pairs sharing an edge are left out. Built once with the grid, then each
+// test of a state between the two only tests the stored pairs: a retry that changes few
+// faces costs a pass over the list, not a grid. F must outlive the object.
+class MotionPairs {
+ public:
+  MotionPairs(const std::vector<Eigen::Vector3d>& V0, const std::vector<Eigen::Vector3d>& V1,
+              const std::vector<Eigen::Vector3i>& F);
+  // Intersecting pairs (f < g, sorted) of V, whose vertices must lie on their segments;
+  // with only_faces, the pairs with a flagged face only (as self_intersections).
+  std::vector<std::pair<int, int>> intersections(const std::vector<Eigen::Vector3d>& V,
+                                                 const std::vector<char>& only_faces = {}) const;
+  std::size_t size() const { return pairs_.size(); }
+
+ private:
+  const std::vector<Eigen::Vector3i>& F_;
+  std::vector<std::pair<int, int>> pairs_;  // f < g, sorted
+};
+
 }  // namespace tetmvs::deform

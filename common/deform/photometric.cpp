@@ -286,6 +286,8 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
     acc.hess.assign(nv, 0.0);
     std::vector<double> sm, si, sj, sii, sjj, sij, sg, tmp, cA, cB, cC, cD, cE, cF, cG;
     std::vector<float> J, G;
+    std::vector<double> pg, ph;
+    std::vector<int> pn;
     std::vector<std::uint8_t> valid;
     for (int i = s; i < nc; i += kSlots) {
       if (partners[i].empty()) continue;
@@ -294,6 +296,11 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
       if (np == 0) continue;
       J.assign(np, 0.f);
       G.assign(np, 0.f);
+      // per pixel, dE/dt and the curvature summed over the partners (the weights that take
+      // them to the vertices do not depend on the partner)
+      pg.assign(np, 0.0);
+      ph.assign(np, 0.0);
+      pn.assign(np, 0);
       for (int j : partners[i]) {
         const photo::View& vj = views[j];
         const Eigen::Matrix<double, 3, 4>& Pj = vj.P;
@@ -308,7 +315,7 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
           if (!(ph.z() > 0)) continue;
           const double u = ph.x() / ph.z(), v = ph.y() / ph.z();
           if (!(u >= 1 && v >= 1 && u < vj.width - 2 && v < vj.height - 2)) continue;
-          const int ui = static_cast<int>(std::lround(u)), vi = static_cast<int>(std::lround(v));
+          const int ui = static_cast<int>(round_nearest(u)), vi = static_cast<int>(round_nearest(v));
           if (!clean[j].at<std::uint8_t>(vi, ui)) continue;
           if (!(ph.z() <= rp[j]->depth.at<float>(vi, ui) + kDepthTolPx * ph.z() * vj.inv_focal)) continue;
           const Eigen::Vector3d dp = Pj.leftCols<3>() * P.ray[k];
@@ -357,30 +364,36 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
           cG[k] = mg * cF[k];
         }
         for (auto* a : {&cA, &cB, &cC, &cD, &cE, &cF, &cG}) box_sum(*a, P.cols, P.rows, window, tmp);
-        // per pixel: dE/dt along its ray, then to the vertices of its face
+        // per pixel: dE/dt along its ray
         for (size_t k = 0; k < np; ++k) {
           if (!valid[k] || !(cE[k] > 0)) continue;
           const double dEdJ = -(P.I[k] * cA[k] - cB[k] - J[k] * cC[k] + cD[k]);
           const double g = G[k];
-          const double dEdt = dEdJ * g, d2 = std::max(0.0, g * g * cE[k] - 2 * g * cF[k] + cG[k]);
-          const int f = P.face[k];
-          const Eigen::Vector3d& a = V[F[f][0]];
-          const Eigen::Vector3d e1 = V[F[f][1]] - a, e2 = V[F[f][2]] - a, q = P.X[k] - a;
-          const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), q1 = q.dot(e1), q2 = q.dot(e2);
-          const double det = d11 * d22 - d12 * d12;
-          if (!(det > 0)) continue;
-          const double b1 = std::clamp((d22 * q1 - d12 * q2) / det, 0.0, 1.0);
-          const double b2 = std::clamp((d11 * q2 - d12 * q1) / det, 0.0, 1.0 - b1);
-          const double b[3] = {1.0 - b1 - b2, b1, b2};
-          const double den = fn[f].dot(P.ray[k]);
-          for (int c = 0; c < 3; ++c) {
-            const int vtx = F[f][c];
-            const double r = fn[f].dot(N[vtx]) / den;  // d(depth) / d(offset of vtx), per unit weight
-            acc.grad[vtx] += dEdt * b[c] * r;
-            acc.hess[vtx] += d2 * b[c] * r * r;
-          }
-          ++acc.pixels;
+          pg[k] += dEdJ * g;
+          ph[k] += std::max(0.0, g * g * cE[k] - 2 * g * cF[k] + cG[k]);
+          ++pn[k];
         }
+      }
+      // then to the vertices of each pixel's face
+      for (size_t k = 0; k < np; ++k) {
+        if (pn[k] == 0) continue;
+        const int f = P.face[k];
+        const Eigen::Vector3d& a = V[F[f][0]];
+        const Eigen::Vector3d e1 = V[F[f][1]] - a, e2 = V[F[f][2]] - a, q = P.X[k] - a;
+        const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), q1 = q.dot(e1), q2 = q.dot(e2);
+        const double det = d11 * d22 - d12 * d12;
+        if (!(det > 0)) continue;
+        const double b1 = std::clamp((d22 * q1 - d12 * q2) / det, 0.0, 1.0);
+        const double b2 = std::clamp((d11 * q2 - d12 * q1) / det, 0.0, 1.0 - b1);
+        const double b[3] = {1.0 - b1 - b2, b1, b2};
+        const double den = fn[f].dot(P.ray[k]);
+        for (int c = 0; c < 3; ++c) {
+          const int vtx = F[f][c];
+          const double r = fn[f].dot(N[vtx]) / den;  // d(depth) / d(offset of vtx), per unit weight
+          acc.grad[vtx] += pg[k] * b[c] * r;
+          acc.hess[vtx] += ph[k] * b[c] * r * r;
+        }
+        acc.pixels += pn[k];
       }
     }
   }

@@ -55,7 +55,8 @@ PhotoLevel make_photo_level(const photo::Views& full, const std::vector<Camera>&
 
 // partners[i]: the views compared with view i. N: unit vertex normals. window: odd, >= 3.
 // rasters: the mesh rasterised in every view of this level with back faces culled, when
-// the caller has them (deform's own rasters at level 0); empty: rasterised here.
+// the caller has them (deform's own rasters, subsampled at the reduced levels); empty:
+// rasterised here.
 PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F,
                                          const std::vector<Eigen::Vector3d>& N, const PhotoLevel& lv,
                                          const std::vector<std::vector<int>>& partners, int window,

@@ -61,8 +61,8 @@ Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) 
     v = std::clamp(v, -lim, lim);
     p.pu = u;
     p.pv = v;
-    p.fx = std::llround(u * kSub);
-    p.fy = std::llround(v * kSub);
+    p.fx = round_nearest(u * kSub);
+    p.fy = round_nearest(v * kSub);
   }
   float* D = r.depth.ptr<float>();
   int* T = r.tri.ptr<int>();
@@ -152,6 +152,32 @@ cv::Mat Raster::centre_mask() const {
     for (int u = 0; u < width; ++u) out[u] = t[u * ss + o] >= 0 ? 255 : 0;
   }
   return mask;
+}
+
+Raster subsample(const Raster& r, int level) {
+  require(r.ss == 1, "subsample: the raster is supersampled (", r.ss, ")");
+  require(level >= 0 && level <= 12, "subsample: pyramid level ", level, " must lie in [0, 12]");
+  Raster out;
+  out.width = r.width;
+  out.height = r.height;
+  for (int l = 0; l < level; ++l) {
+    out.width = (out.width + 1) / 2;
+    out.height = (out.height + 1) / 2;
+  }
+  out.skipped_near = r.skipped_near;
+  out.depth.create(out.height, out.width, CV_32F);
+  out.tri.create(out.height, out.width, CV_32S);
+  for (int y = 0; y < out.height; ++y) {
+    const float* d = r.depth.ptr<float>(y << level);
+    const int* t = r.tri.ptr<int>(y << level);
+    float* od = out.depth.ptr<float>(y);
+    int* ot = out.tri.ptr<int>(y);
+    for (int x = 0; x < out.width; ++x) {
+      od[x] = d[x << level];
+      ot[x] = t[x << level];
+    }
+  }
+  return out;
 }
 
 bool pixel_point_on_triangle(const TriMesh& m, int f, const Camera& cam, double u, double v, Eigen::Vector3d& X) {

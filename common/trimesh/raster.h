@@ -11,12 +11,20 @@
 // Triangles with a vertex at camera depth <= znear are skipped and counted.
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <opencv2/core.hpp>
 
 #include "common/camera.h"
 #include "common/trimesh/trimesh.h"
 
 namespace tetmvs {
+
+// std::llround (halves away from zero) without the library call; |x| < 2^62.
+inline std::int64_t round_nearest(double x) {
+  const auto t = static_cast<std::int64_t>(x);  // towards zero
+  const double r = x - static_cast<double>(t);   // exact
+  return t + static_cast<std::int64_t>(r >= 0.5) - static_cast<std::int64_t>(r <= -0.5);  // no branch
+}
 
 struct RasterOptions {
   int supersample = 1;      // s >= 1
@@ -41,6 +49,13 @@ struct Raster {
 
 // Camera width/height must be set (> 0).
 Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt = {});
+
+// The raster of the same camera with the first two rows of K divided by 2^level and the
+// image halved (rounding up) level times (a pyramid level): its pixel (x, y) sees along the
+// ray of r's pixel (x 2^level, y 2^level), whose depth and triangle it takes. Equal to
+// rasterising at that level up to the snapping of vertices (1/256 of a sample) on samples
+// that lie on a triangle's edge. Needs r.ss == 1.
+Raster subsample(const Raster& r, int level);
 
 // World point on triangle f under continuous pixel (u, v) (ray-plane intersection).
 // Returns false when the ray is parallel to the triangle plane.

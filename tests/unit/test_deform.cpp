@@ -221,6 +221,32 @@ TEST(DeformIntersect, CleanMeshesHaveNoneAndAPushedVertexMakesSome) {
   EXPECT_TRUE(self_intersections(s.V, s.F, none).empty());
 }
 
+TEST(DeformIntersect, MotionPairsFindWhatTheGridFindsAtEveryScaleOfTheStep) {
+  // a sphere whose top vertex moves through the opposite side: every state on the way
+  // (the step halved as by retries) gives the grid's pairs, filtered or not
+  const TriMesh s = synth::make_sphere(0.2);
+  int top = 0;
+  for (int v = 0; v < (int)s.nv(); ++v)
+    if (s.V[v].z() > s.V[top].z()) top = v;
+  std::vector<Eigen::Vector3d> V1 = s.V;
+  V1[top] = Eigen::Vector3d(0.01, 0.02, -1.5);
+  for (auto& x : V1) x += Eigen::Vector3d(0.003, -0.002, 0.001);  // every vertex moves
+  const MotionPairs cand(s.V, V1, s.F);
+  EXPECT_GT(cand.size(), s.nf());  // every face has neighbours sharing a vertex only
+  std::size_t met = 0;
+  for (double scale : {1.0, 0.5, 0.25, 0.0}) {
+    std::vector<Eigen::Vector3d> V(s.nv());
+    for (size_t v = 0; v < s.nv(); ++v) V[v] = s.V[v] + scale * (V1[v] - s.V[v]);
+    const auto expect = self_intersections(V, s.F);
+    EXPECT_EQ(cand.intersections(V), expect) << scale;
+    met += expect.size();
+    std::vector<char> only(s.nf(), 0);
+    for (size_t f = 0; f < s.nf(); f += 7) only[f] = 1;
+    EXPECT_EQ(cand.intersections(V, only), self_intersections(V, s.F, only)) << scale;
+  }
+  EXPECT_GT(met, 0u);
+}
+
 TEST(DeformSilhouette, SignedDistanceIsZeroOnTheBoundary) {
   cv::Mat m = cv::Mat::zeros(40, 40, CV_8U);
   m(cv::Rect(10, 10, 20, 20)).setTo(255);  // object pixels 10..29
