@@ -77,11 +77,11 @@ void for_pixels_near(const std::array<Eigen::Vector2d, 4>& p, int W, int H, F&& 
 }
 
 // The exact test of a ray against a cell, with a tolerance: the walk (common/tetmesh/locate.h)
-// follows the ray rounded to its fixed-point grid, with symbolic perturbation where it passes
-// through a face, edge or vertex; a ray that passes through the cell shrunk by kTolerance (of
-// the level-0 edge), or misses it grown by as much, is crossed or missed by the walk too. The
-// rays between are left to the walk itself.
-constexpr double kTolerance = 1e-9;
+// follows the ray rounded to its fixed-point grid (h / 2^24, h the level-0 edge), with
+// symbolic perturbation where it passes through a face, edge or vertex; a ray that passes
+// through the cell shrunk by kTolerance x h (16 units of that grid), or misses it grown by
+// as much, is crossed or missed by the walk too. The rays between are left to the walk.
+constexpr double kTolerance = 1e-6;
 
 // A cell as the four half-spaces n . X <= h of its faces (unit outward normals).
 struct CellPlanes {

@@ -16,9 +16,10 @@ namespace tetmvs::label {
 // finds them. counted (optional, one flag per cell): only these cells' votes are computed
 // (the others get 0). Each view's rays pass through its camera centre, so each projects to
 // one point: every cell is tested against the rays whose point its projection holds (and
-// that start no nearer to the camera than its nearest vertex), exactly up to a tolerance of 1e-9 of the level-0
-// edge; the few rays within it, and every ray of a view with its camera inside the grid or
-// behind a counted cell, are walked.
+// that start no nearer to the camera than its nearest vertex), exactly up to a tolerance
+// of 1e-6 of the level-0 edge (16 units of the walk's fixed-point grid); the few rays
+// within it, and every ray of a view with its camera inside the grid or behind a counted
+// cell, are walked.
 std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s, const QPoints& q, double offset,
                                            std::int64_t* rays = nullptr,
                                            const std::vector<std::uint8_t>* counted = nullptr,

@@ -692,8 +692,9 @@ TEST(Label, ConflictingLabelsFromQAreLeftFree) {
 }
 
 // The votes from the rays' projections equal the exact walk of every ray, on the cup with Q
-// plus points on mesh vertices, behind them seen from a camera, and on a line through the
-// grid's centre (rays through vertices, edges and faces, which the walk's perturbation
+// plus points on mesh vertices, behind them seen from a camera (their rays through the
+// vertices or within a few fixed-point units of them), and on a line through the grid's
+// centre (rays through vertices, edges and faces, which the walk's perturbation
 // decides), with every second cell counted; and with a camera moved into the grid (its rays
 // are walked).
 TEST(Label, VotesEqualTheWalkOfEveryRay) {
@@ -704,7 +705,11 @@ TEST(Label, VotesEqualTheWalkOfEveryRay) {
   for (std::int32_t x = 0; x < k.mesh.num_vertices(); x += 97) {
     const Eigen::Vector3d V = k.mesh.vertex(x);
     q.add(V, Eigen::Vector3d::UnitZ(), 0.9f, all_views, -1);
-    q.add(V + 0.05 * (V - c0).normalized(), Eigen::Vector3d::UnitZ(), 0.9f, {0}, -1);  // its ray to view 0 meets V
+    // its ray to view 0 meets V, or passes it at about the walk's fixed-point resolution
+    // (h / 2^24) or a few times that
+    const Eigen::Vector3d d = (V - c0).normalized(), side = d.cross(Eigen::Vector3d::UnitZ()).normalized();
+    for (const double off : {0.0, 2e-8, 5e-8, 2e-7})
+      q.add(V + 0.05 * d + off * k.mesh.lat.h * side, Eigen::Vector3d::UnitZ(), 0.9f, {0}, -1);
   }
   const Eigen::Vector3d c = k.mesh.lat.grid_box().center();
   for (int i = -20; i <= 20; ++i) q.add(Eigen::Vector3d(c.x(), c.y() + 0.05 * i, c.z()), Eigen::Vector3d::UnitZ(), 0.9f, all_views, -1);
