@@ -83,6 +83,9 @@ void for_pixels_near(const std::array<Eigen::Vector2d, 4>& p, int W, int H, F&& 
 // as much, is crossed or missed by the walk too. The rays between are left to the walk.
 constexpr double kTolerance = 1e-6;
 
+// Tile size (pixels) of the per-view map of the deepest ray origins.
+constexpr int kTile = 8;
+
 // A cell as the four half-spaces n . X <= h of its faces (unit outward normals).
 struct CellPlanes {
   std::array<Eigen::Vector3d, 4> n;
@@ -168,7 +171,7 @@ std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s
     mine.assign(C, 0);
     std::vector<tet::WalkHit> hits;
     std::vector<Eigen::Vector3d> origin, dir;
-    std::vector<double> depth;
+    std::vector<double> depth, tile_depth;
     std::vector<std::int32_t> pixel, outside;  // outside: the rays projecting outside the image
     RayBuckets b;
 #pragma omp for schedule(dynamic, 1) nowait
@@ -219,6 +222,15 @@ std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s
         for (std::int32_t i = 0; i < R; ++i)
           if (pixel[i] >= 0) b.ray[fill[pixel[i]]++] = i;
       }
+      // per tile of kTile x kTile pixels, the largest depth of a ray's origin there (a cell
+      // nearer to no ray's origin than its tiles' depths is crossed by none of their rays)
+      const int TW = (W + kTile - 1) / kTile, TH = (H + kTile - 1) / kTile;
+      tile_depth.assign(static_cast<std::size_t>(TW) * TH, -std::numeric_limits<double>::infinity());
+      for (std::int32_t i = 0; i < R; ++i)
+        if (pixel[i] >= 0) {
+          double& d = tile_depth[static_cast<std::size_t>(pixel[i] / W / kTile) * TW + pixel[i] % W / kTile];
+          d = std::max(d, depth[i]);
+        }
       // each counted cell against the rays near its projection
       std::array<Eigen::Vector2d, 4> corner;
       for (std::int32_t i = 0; i < N; ++i) {
@@ -231,6 +243,16 @@ std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s
           inside = inside && corner[k].x() >= kReach && corner[k].y() >= kReach && corner[k].x() <= W - 1 - kReach &&
                    corner[k].y() <= H - 1 - kReach;
         }
+        // the tiles of the pixels near the projection: is a ray's origin there deep enough?
+        Eigen::Vector2d a = corner[0], c = corner[0];
+        for (int k = 1; k < 4; ++k) a = a.cwiseMin(corner[k]), c = c.cwiseMax(corner[k]);
+        const int tu0 = std::max(0, static_cast<int>(std::floor(a.x() - kReach)) / kTile);
+        const int tu1 = std::min(TW - 1, std::max(0, static_cast<int>(std::ceil(c.x() + kReach))) / kTile);
+        const int tw0 = std::max(0, static_cast<int>(std::floor(a.y() - kReach)) / kTile);
+        const int tw1 = std::min(TH - 1, std::max(0, static_cast<int>(std::ceil(c.y() + kReach))) / kTile);
+        bool deep = false;
+        for (int tw = tw0; tw <= tw1 && !deep; ++tw)
+          for (int tu = tu0; tu <= tu1 && !deep; ++tu) deep = tile_depth[static_cast<std::size_t>(tw) * TW + tu] >= zmin - tol;
         const auto test = [&](std::int32_t r) {
           if (depth[r] < zmin - tol) return;  // the cell lies wholly behind the ray's origin
           if (ray_meets(planes[i], origin[r], dir[r], -tol))
@@ -241,9 +263,10 @@ std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s
             for (const auto& h : hits) mine[cells[i]] += h.cell == cells[i];
           }
         };
-        for_pixels_near(corner, W, H, [&](int w, int u0, int u1) {
-          for (std::int32_t k = b.offset[w * W + u0]; k < b.offset[w * W + u1 + 1]; ++k) test(b.ray[k]);
-        });
+        if (deep)
+          for_pixels_near(corner, W, H, [&](int w, int u0, int u1) {
+            for (std::int32_t k = b.offset[w * W + u0]; k < b.offset[w * W + u1 + 1]; ++k) test(b.ray[k]);
+          });
         if (!inside)
           for (const std::int32_t r : outside) test(r);
       }
