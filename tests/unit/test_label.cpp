@@ -14,9 +14,11 @@
 
 #include "common/label/hull.h"
 #include "common/label/labels.h"
+#include "common/label/votes.h"
 #include "common/q_silhouettes.h"
 #include "common/synth/objects.h"
 #include "common/synth/scene.h"
+#include "common/tetmesh/locate.h"
 #include "common/tetmesh/refine.h"
 #include "common/trimesh/bvh.h"
 #include "common/trimesh/raster.h"
@@ -686,5 +688,55 @@ TEST(Label, ConflictingLabelsFromQAreLeftFree) {
     const label::Result b = label::label_cells(k->mesh, k->scene, k->q, lo);
     EXPECT_EQ(a.label, b.label);
     EXPECT_EQ(b.count(label::Rule::kConflict), 0);
+  }
+}
+
+// The votes from the rays' projections equal the exact walk of every ray, on the cup with Q
+// plus points on mesh vertices, behind them seen from a camera (their rays through the
+// vertices or within a few fixed-point units of them), and on a line through the grid's
+// centre (rays through vertices, edges and faces, which the walk's perturbation
+// decides), with every second cell counted; and with a camera moved into the grid (its rays
+// are walked).
+TEST(Label, VotesEqualTheWalkOfEveryRay) {
+  const CupCase& k = cup();
+  QPoints q = k.q;
+  const std::vector<std::int32_t> all_views = {0, 3, 6, 9};
+  const Eigen::Vector3d c0 = k.scene.cams[0].centre();
+  for (std::int32_t x = 0; x < k.mesh.num_vertices(); x += 97) {
+    const Eigen::Vector3d V = k.mesh.vertex(x);
+    q.add(V, Eigen::Vector3d::UnitZ(), 0.9f, all_views, -1);
+    // its ray to view 0 meets V, or passes it at about the walk's fixed-point resolution
+    // (h / 2^24) or a few times that
+    const Eigen::Vector3d d = (V - c0).normalized(), side = d.cross(Eigen::Vector3d::UnitZ()).normalized();
+    for (const double off : {0.0, 2e-8, 5e-8, 2e-7})
+      q.add(V + 0.05 * d + off * k.mesh.lat.h * side, Eigen::Vector3d::UnitZ(), 0.9f, {0}, -1);
+  }
+  const Eigen::Vector3d c = k.mesh.lat.grid_box().center();
+  for (int i = -20; i <= 20; ++i) q.add(Eigen::Vector3d(c.x(), c.y() + 0.05 * i, c.z()), Eigen::Vector3d::UnitZ(), 0.9f, all_views, -1);
+  std::vector<std::uint8_t> counted(k.mesh.num_cells());
+  for (std::int32_t cell = 0; cell < k.mesh.num_cells(); ++cell) counted[cell] = cell % 2;
+  const double offset = 0.01;
+  for (const bool inside : {false, true}) {
+    Scene s = k.scene;
+    if (inside) s.cams[3].t = -s.cams[3].R * Eigen::Vector3d(c.x() + 0.1, c.y(), c.z() + 2.5);  // in the grid, over the cup
+    std::int64_t rays = 0;
+    const auto votes = label::visibility_votes(k.mesh, s, q, offset, &rays, &counted);
+    std::vector<std::int32_t> walked(k.mesh.num_cells(), 0);
+    std::vector<tet::WalkHit> hits;
+    std::int64_t n = 0;
+    for (std::int64_t p = 0; p < q.size(); ++p)
+      for (std::int64_t j = q.cam_offsets[p]; j < q.cam_offsets[p + 1]; ++j, ++n) {
+        const Eigen::Vector3d dir = (s.cams[q.cams[j]].centre() - q.pos(p)).normalized();
+        tet::walk_ray(k.mesh, q.pos(p) + offset * dir, dir, hits);
+        for (const auto& h : hits) ++walked[h.cell];
+      }
+    EXPECT_EQ(rays, n);
+    std::int64_t wrong = 0, crossed = 0;
+    for (std::int32_t cell = 0; cell < k.mesh.num_cells(); ++cell) {
+      wrong += votes[cell] != (counted[cell] ? walked[cell] : 0);
+      crossed += counted[cell] && walked[cell] > 0;
+    }
+    EXPECT_GT(crossed, 1000);
+    EXPECT_EQ(wrong, 0) << (inside ? "camera in the grid" : "cameras outside");
   }
 }
