@@ -5,11 +5,14 @@
 // from a to b: the outward normal when a is inside and b outside) and b->a costs
 // phi(omega[2f+1]). Cells labelled interior are tied to the source and exterior cells to
 // the sink with infinite capacity. Instead of infinite edges the graph is contracted:
-// every interior cell IS the source node, every exterior cell the sink node (an exact
-// equivalent that keeps the graph small). Boundary faces of the mesh separate their cell
-// from the outside world: an inside cell on the boundary pays for its boundary face.
-// Max-flow / min-cut: Boost.Graph's boykov_kolmogorov_max_flow on a compressed sparse
-// row graph.
+// every interior cell IS the source, every exterior cell the sink (an exact equivalent
+// that keeps the graph small), so the graph's nodes are the free cells only: a face
+// between two free cells gives two arcs, a face between a free cell and a labelled one
+// (or the mesh boundary: the outside world is exterior) adds its cost to the free cell's
+// capacity from the source or to the sink, and a face between an interior and an exterior
+// cell is cut whatever happens. Max-flow / min-cut: common/cut/maxflow.h (Boykov-
+// Kolmogorov on compact arrays, one net terminal capacity per node). The result is the
+// minimum cut whose inside is smallest; its energy is checked against the flow.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -41,8 +44,9 @@ struct CutResult {
   double visibility_energy = 0;      // the optional visibility term's part of the energy
   double max_flow = 0;               // the flow found (equals energy minus fixed costs)
   std::int64_t cut_faces = 0;
-  std::int64_t graph_nodes = 0, graph_edges = 0;  // after contraction, both directions
-  std::int64_t graph_bytes = 0;                   // memory of the graph and its maps
+  std::int64_t graph_nodes = 0;  // free cells plus the source and the sink
+  std::int64_t graph_edges = 0;  // arcs (two per face between free cells) plus terminal links
+  std::int64_t graph_bytes = 0;  // memory of the graph and of the max-flow's work arrays
 };
 
 // omega: 2 per face (see top). labels: one per cell.
