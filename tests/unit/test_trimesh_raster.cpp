@@ -195,7 +195,9 @@ TEST(Raster, SubsampledIsTheRasterOfThePyramidLevel) {
         covered += t >= 0;
         if (t == sub.tri.at<int>(y, x)) {
           ++same;
-          if (t >= 0) EXPECT_NEAR(sub.depth.at<float>(y, x), direct.depth.at<float>(y, x), 1e-4);
+          if (t >= 0) {
+            EXPECT_NEAR(sub.depth.at<float>(y, x), direct.depth.at<float>(y, x), 1e-4);
+          }
         }
       }
     EXPECT_GT(covered, 50) << level;
