@@ -13,10 +13,18 @@ using namespace tetmvs;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path tmpdir() {
+// One folder per test process, removed when the process ends.
+struct TempFolder {
   fs::path d = fs::temp_directory_path() / ("tetmvs_test_ply_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
+  TempFolder() { fs::create_directories(d); }
+  ~TempFolder() {
+    std::error_code ec;
+    fs::remove_all(d, ec);
+  }
+};
+fs::path tmpdir() {
+  static const TempFolder folder;
+  return folder.d;
 }
 TriMesh small_mesh() {
   TriMesh m;
