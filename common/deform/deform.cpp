@@ -100,18 +100,15 @@ void check_input(const TriMesh& m) {
             " faces has negative volume (inward-facing triangles)");
 }
 
-// Intersections of V1 given those of an earlier state: pairs with a face in `changed`
-// are recomputed, the others kept from `prev` (both lists sorted).
-std::vector<std::pair<int, int>> update_intersections(const std::vector<Eigen::Vector3d>& V1,
-                                                      const std::vector<Eigen::Vector3i>& F,
-                                                      const std::vector<std::pair<int, int>>& prev,
-                                                      const std::vector<char>& changed) {
-  std::vector<std::pair<int, int>> out;
+// Intersections after the faces flagged in `changed` moved: the pairs of `prev` without a
+// changed face, merged with `fresh` (the pairs with one, found by the caller); all sorted.
+std::vector<std::pair<int, int>> merge_intersections(const std::vector<std::pair<int, int>>& prev,
+                                                     const std::vector<char>& changed,
+                                                     const std::vector<std::pair<int, int>>& fresh) {
+  std::vector<std::pair<int, int>> kept, out;
   for (const auto& p : prev)
-    if (!changed[p.first] && !changed[p.second]) out.push_back(p);
-  const auto fresh = self_intersections(V1, F, changed);
-  out.insert(out.end(), fresh.begin(), fresh.end());
-  std::sort(out.begin(), out.end());
+    if (!changed[p.first] && !changed[p.second]) kept.push_back(p);
+  std::merge(kept.begin(), kept.end(), fresh.begin(), fresh.end(), std::back_inserter(out));
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
@@ -179,7 +176,7 @@ std::vector<std::pair<int, int>> intersections_after_remesh(const std::vector<Ei
     if (a >= 0 && b >= 0) prev.emplace_back(std::min(a, b), std::max(a, b));
   }
   std::sort(prev.begin(), prev.end());
-  return update_intersections(V, F, prev, changed);
+  return merge_intersections(prev, changed, self_intersections(V, F, changed));
 }
 
 // Renumbers vertices along a Morton (Z-order) curve of their positions and sorts the
@@ -274,7 +271,7 @@ std::vector<std::pair<int, int>> untangle(std::vector<Eigen::Vector3d>& V, const
     std::vector<char> changed(F.size(), 0);
     for (size_t f = 0; f < F.size(); ++f)
       changed[f] = mark[F[f][0]] || mark[F[f][1]] || mark[F[f][2]];
-    pairs = update_intersections(V, F, pairs, changed);
+    pairs = merge_intersections(pairs, changed, self_intersections(V, F, changed));
   }
   return pairs;
 }
@@ -425,12 +422,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
       std::vector<char> changed(M.F.size(), 0);
       for (size_t f = 0; f < M.F.size(); ++f)
         changed[f] = changed_v[M.F[f][0]] || changed_v[M.F[f][1]] || changed_v[M.F[f][2]];
-      std::vector<std::pair<int, int>> kept;
-      for (const auto& p : pairs)
-        if (!changed[p.first] && !changed[p.second]) kept.push_back(p);
-      const auto fresh_pairs = candidates.intersections(V1, changed);
-      pairs.clear();
-      std::merge(kept.begin(), kept.end(), fresh_pairs.begin(), fresh_pairs.end(), std::back_inserter(pairs));
+      pairs = merge_intersections(pairs, changed, candidates.intersections(V1, changed));
     }
     double sum_move = 0, sum_px = 0, max_px = 0;
     for (int v = 0; v < nv; ++v) {
