@@ -62,20 +62,23 @@ PointResult score_orientation(const Views& views, const Eigen::Vector3d& X, cons
   return out;
 }
 
-double peak_offset(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nf, const PointResult& best,
-                   const Options& opts, Scratch& scratch, int steps, float* peak_score) {
-  if (peak_score) *peak_score = best.score;
-  if (!best.valid() || steps < 1 || steps > 16) return 0;
+float score_offset(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nf, const PointResult& best,
+                   double t, const Options& opts, Scratch& scratch) {
+  if (!best.valid()) return kNoScore;
   const Eigen::Vector3d& n = orientations()[best.orientation];
   Eigen::Vector3d a1, a2;
   patch_axes(n, nf.normalized(), opts.point_grid, a1, a2);
   PatchResult r;
-  // score at sample offset t (kNoScore when a view's patch leaves its image)
-  const auto at = [&](int t) {
-    detail::score_in_views(views, X + (t * static_cast<double>(best.spacing)) * n, a1, opts.point_grid ? &a2 : nullptr,
-                           best.spacing, best.views.data(), best.num_views, best.num_partners, opts, scratch, r);
-    return r.valid() ? r.score : kNoScore;
-  };
+  detail::score_in_views(views, X + (t * static_cast<double>(best.spacing)) * n, a1, opts.point_grid ? &a2 : nullptr,
+                         best.spacing, best.views.data(), best.num_views, best.num_partners, opts, scratch, r);
+  return r.valid() ? r.score : kNoScore;
+}
+
+double peak_offset(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nf, const PointResult& best,
+                   const Options& opts, Scratch& scratch, int steps, float* peak_score) {
+  if (peak_score) *peak_score = best.score;
+  if (!best.valid() || steps < 1 || steps > 16) return 0;
+  const auto at = [&](int t) { return score_offset(views, X, nf, best, t, opts, scratch); };
   // Hill climb from 0 toward the higher neighbour, at most `steps` samples (the score is
   // unimodal across the band); lo and hi end as the scores next to the crest b (kNoScore
   // at the end of the range: no parabola there).

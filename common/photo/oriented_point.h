@@ -30,6 +30,12 @@ PointResult score_point(const Views& views, const Eigen::Vector3d& X, const Eige
                         std::array<float, kNumOrientations>* per_orientation = nullptr,
                         std::uint16_t orientation_mask = kAllOrientations);
 
+// The score of best's orientation (best: a valid result of score_point at X on a face of
+// normal nf) at X moved t samples (best.spacing) along that orientation's normal, in best's
+// views with best's number of partners; kNoScore when a view's patch leaves its image.
+float score_offset(const Views& views, const Eigen::Vector3d& X, const Eigen::Vector3d& nf, const PointResult& best,
+                   double t, const Options& opts, Scratch& scratch);
+
 // Where the best orientation of `best` (a valid result of score_point at X on a face of
 // normal nf) scores highest along its normal in the same views: the offset, in samples
 // (best.spacing), among -steps..steps, refined by a parabola through the best sample and

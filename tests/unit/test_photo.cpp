@@ -234,6 +234,25 @@ TEST(PointScore, OffSurfaceLow) {
   }
 }
 
+// score_offset re-scores the best orientation in the same views: at offset 0 it is the
+// point's own score, and on a textured plane the score falls off either way along the normal
+// (the crest band_probe counts).
+TEST(PointScore, ScoreOffsetIsTheSameMeasureMovedAlongTheNormal) {
+  Options o;
+  o.mu = 11;
+  Scratch scratch;
+  const PlaneScene& s = scene(0);
+  for (const auto& X : surface_points(s))
+    for (const auto& nf : crossing_face_normals(s.N)) {
+      const PointResult r = score_point(views(0), X, nf, o, scratch);
+      ASSERT_TRUE(r.valid());
+      EXPECT_NEAR(score_offset(views(0), X, nf, r, 0.0, o, scratch), r.score, 1e-6f);
+      EXPECT_LT(score_offset(views(0), X, nf, r, -4.0, o, scratch), r.score);
+      EXPECT_LT(score_offset(views(0), X, nf, r, 4.0, o, scratch), r.score);
+    }
+  EXPECT_EQ(score_offset(views(0), s.O, s.N, PointResult{}, 1.0, o, scratch), kNoScore);
+}
+
 TEST(PointScore, TooFewCamerasMeansNoScore) {
   const PlaneScene& s = scene(0);
   std::vector<Camera> cams(s.cams.begin(), s.cams.begin() + 3);
