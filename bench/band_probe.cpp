@@ -2,6 +2,7 @@
 // points moved off a reference surface along its normal. For a sample of points of the
 // reference mesh (synth's gt.ply, or a trusted reconstruction of a real set) and offsets of
 // a few pixels of the scale scored, prints the share of the points inside the visual hull
+// (photoconsist's test)
 // whose score exceeds photo.T, and the share that also is a crest: higher than the best
 // orientation's score DELTA pixels either way along its normal (photo::score_offset). A
 // measure that localises the surface is above T at 0 and below it a few pixels away.
@@ -18,6 +19,7 @@
 
 #include "common/params.h"
 #include "common/photo/oriented_point.h"
+#include "common/photoconsist/hull.h"
 #include "common/photoconsist/options.h"
 #include "common/ply.h"
 #include "common/scene.h"
@@ -53,6 +55,8 @@ int main(int argc, char** argv) {
     std::vector<double> sum(offsets.size(), 0.0);
     std::vector<long> crest(offsets.size(), 0);
     photo::Scratch scratch;
+    // photoconsist's visual-hull test (full images, photo.hull_margin_px)
+    const photoconsist::HullTest hull(full, scene.sil, opts.hull_margin_px);
     for (std::size_t i = 0; i < S.size(); ++i) {
       // one pixel of the scale scored at the point: the nearest view's footprint
       double fp = 1e300;
@@ -62,14 +66,7 @@ int main(int argc, char** argv) {
       }
       for (std::size_t k = 0; k < offsets.size(); ++k) {
         const Eigen::Vector3d X = S.P[i] + offsets[k] * fp * S.N[i];
-        bool hull = true;
-        for (int v = 0; v < full.size() && hull; ++v) {
-          const Eigen::Vector3d h = full[v].project_h(X);
-          if (!(h.z() > 0)) continue;
-          const double u = h.x() / h.z(), w = h.y() / h.z();
-          if (u >= 0 && w >= 0 && u < full[v].width && w < full[v].height) hull = full[v].in_silhouette(u, w);
-        }
-        if (!hull) continue;
+        if (!hull.inside(X)) continue;
         ++in_hull[k];
         const photo::PointResult r = photo::score_point(views, X, S.N[i], opts.line, scratch);
         if (!r.valid()) continue;
