@@ -247,8 +247,10 @@ void File::write(const std::string& name, const T* data, const Shape& shape, boo
     chunk[0] = std::clamp<hsize_t>(static_cast<hsize_t>((256 * 1024) / std::max<std::uint64_t>(row, 1)), 1, dims[0]);
     H5Pset_chunk(dcpl, static_cast<int>(chunk.size()), chunk.data());
     if (compress) {
+      // deflate level 1: on dinoRing's finest mesh (127 MB) a fifth less write time than
+      // level 4 for 8 % more bytes; reading costs the same
       H5Pset_shuffle(dcpl);
-      H5Pset_deflate(dcpl, 4);
+      H5Pset_deflate(dcpl, 1);
     }
   }
   Id ds(H5Dcreate2(id_, n.c_str(), mem_type<T>(), space, H5P_DEFAULT, dcpl, H5P_DEFAULT), H5Dclose);

@@ -1,7 +1,8 @@
-// SHA-256 (FIPS 180-4), for input provenance attributes and dataset checks.
+// SHA-256 (FIPS 180-4), for input provenance attributes and dataset checks: OpenSSL's
+// libcrypto (which uses the CPU's SHA instructions where there are any).
 #pragma once
 #include <cstddef>
-#include <cstdint>
+#include <memory>
 #include <string>
 
 namespace tetmvs {
@@ -9,15 +10,15 @@ namespace tetmvs {
 class Sha256 {
  public:
   Sha256();
+  ~Sha256();
+  Sha256(const Sha256&) = delete;
+  Sha256& operator=(const Sha256&) = delete;
   void update(const void* data, std::size_t n);
   std::string hex();  // finishes; lowercase hex digest
 
  private:
-  void block(const std::uint8_t* p);
-  std::uint32_t h_[8];
-  std::uint8_t buf_[64];
-  std::size_t buflen_ = 0;
-  std::uint64_t total_ = 0;
+  struct Context;
+  std::unique_ptr<Context> ctx_;
 };
 
 std::string sha256_hex(const std::string& bytes);
