@@ -2,9 +2,9 @@
 // points moved off a reference surface along its normal. For a sample of points of the
 // reference mesh (synth's gt.ply, or a trusted reconstruction of a real set) and offsets of
 // a few pixels of the scale scored, prints the share of the points inside the visual hull
-// (photoconsist's test)
-// whose score exceeds photo.T, and the share that also is a crest: higher than the best
-// orientation's score DELTA pixels either way along its normal (photo::score_offset). A
+// (photoconsist's test) whose score exceeds photo.T, and the share that also is a crest:
+// higher than the best orientation's score DELTA pixels either way along its normal
+// (photo::score_offset). A
 // measure that localises the surface is above T at 0 and below it a few pixels away.
 // Measurements: docs/photoconsist.md, "The band on plaster".
 //
@@ -12,6 +12,8 @@
 //
 // Defaults: pyramid level 0 (full images), 500 samples, DELTA 4. The key=value pairs
 // override parameters (as --set does), e.g. photo.T=0.8.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -25,18 +27,21 @@
 #include "common/scene.h"
 #include "common/trimesh/sample.h"
 
-
 using namespace tetmvs;
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: band_probe SCENE.h5 SURFACE.ply [PYRAMID_LEVEL] [SAMPLES] [key=value ...]\n");
+    std::fprintf(stderr, "usage: band_probe SCENE.h5 SURFACE.ply [PYRAMID_LEVEL [SAMPLES [DELTA [key=value ...]]]]\n");
     return 2;
   }
   try {
     const int pyramid = argc > 3 ? std::atoi(argv[3]) : 0;
     const int samples = argc > 4 ? std::atoi(argv[4]) : 500;
     const double delta = argc > 5 ? std::atof(argv[5]) : 4.0;
+    if (pyramid < 0 || pyramid > 6 || samples < 1 || samples > 1000000 || !(delta > 0 && delta <= 32)) {
+      std::fprintf(stderr, "band_probe: PYRAMID_LEVEL must lie in 0..6, SAMPLES in 1..1000000, DELTA in (0, 32]\n");
+      return 2;
+    }
     Params params = Params::defaults();
     for (int a = 6; a < argc; ++a) params.set(argv[a]);
     const photoconsist::Options opts = photoconsist::Options::from_params(params);
@@ -49,6 +54,10 @@ int main(int argc, char** argv) {
     double area = 0;
     for (const auto& f : surface.F)
       area += 0.5 * (surface.V[f[1]] - surface.V[f[0]]).cross(surface.V[f[2]] - surface.V[f[0]]).norm();
+    if (!(area > 0)) {
+      std::fprintf(stderr, "band_probe: %s has no surface (no faces or zero area)\n", argv[2]);
+      return 1;
+    }
     const SurfaceSamples S = sample_surface(surface, std::sqrt(area / samples), 7);
     const std::vector<double> offsets{-32, -16, -8, -4, -2, -1, 0, 1, 2, 4, 8, 16, 32};
     std::vector<long> above(offsets.size(), 0), defined(offsets.size(), 0), in_hull(offsets.size(), 0);
