@@ -5,27 +5,14 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
-#include "common/params.h"
 
 namespace tetmvs {
 
-void QSilhouetteOptions::check() const {
-  require(close_px >= 0 && close_px <= 100 && margin_px >= 0 && margin_px <= 100, "photo.q_hull_close_px = ", close_px,
-          " and photo.q_hull_margin_px = ", margin_px, " must lie in [0, 100]");
-  require(splat_cells > 0 && splat_cells <= 10 && close_cells >= 0 && close_cells <= 10,
-          "photo.q_hull_splat_cells = ", splat_cells, " must lie in (0, 10] and photo.q_hull_close_cells = ", close_cells,
-          " in [0, 10]");
-  require(min_points >= 1, "photo.q_hull_min_points = ", min_points, " must be >= 1");
-}
+void QSilhouetteOptions::check() const { check_param_ranges(*this); }
 
 QSilhouetteOptions QSilhouetteOptions::from_params(const Params& p) {
   QSilhouetteOptions o;
-  o.on = p.b("photo.q_hull");
-  o.splat_cells = p.d("photo.q_hull_splat_cells");
-  o.close_cells = p.d("photo.q_hull_close_cells");
-  o.close_px = p.d("photo.q_hull_close_px");
-  o.margin_px = p.d("photo.q_hull_margin_px");
-  o.min_points = p.i("photo.q_hull_min_points");
+  read_params(p, o);
   o.check();
   return o;
 }

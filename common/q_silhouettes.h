@@ -9,9 +9,12 @@
 // a cell apart: small splats joined by a closing of about a cell fill the object's outline
 // without growing it by the splat size.
 #pragma once
-#include <opencv2/core.hpp>
+#include <array>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
+#include "common/param_binding.h"
 #include "common/qpoints.h"
 #include "common/scene.h"
 
@@ -25,8 +28,19 @@ struct QSilhouetteOptions {
   double close_px = 6;       // photo.q_hull_close_px: ... and at least this many pixels
   double margin_px = 4;      // photo.q_hull_margin_px: the estimate is grown by this
   int min_points = 50;       // photo.q_hull_min_points: views with fewer consistent points get none
-  void check() const;        // throws Error on a bad value
+  void check() const;        // throws Error on a value outside its documented range
   static QSilhouetteOptions from_params(const Params& p);  // reads photo.q_hull*, then check()s
+
+  static constexpr auto params() {  // the fields that hold parameters (common/param_binding.h)
+    return std::to_array<ParamField<QSilhouetteOptions>>({
+        {"photo.q_hull", &QSilhouetteOptions::on},
+        {"photo.q_hull_splat_cells", &QSilhouetteOptions::splat_cells},
+        {"photo.q_hull_close_cells", &QSilhouetteOptions::close_cells},
+        {"photo.q_hull_close_px", &QSilhouetteOptions::close_px},
+        {"photo.q_hull_margin_px", &QSilhouetteOptions::margin_px},
+        {"photo.q_hull_min_points", &QSilhouetteOptions::min_points},
+    });
+  }
 };
 
 // One CV_8U mask per view (255 = object), an empty Mat for views that have a silhouette or

@@ -1,7 +1,11 @@
 // Options of deform (paper section 3.3), validated up front by check(). Defaults,
-// units and meanings: params/defaults.json ("deform.*") and docs/deform.md.
+// units, ranges and meanings: params/defaults.json ("deform.*", bound in params()) and
+// docs/deform.md.
 #pragma once
+#include <array>
 #include <cstdint>
+
+#include "common/param_binding.h"
 
 namespace tetmvs {
 class Params;
@@ -38,12 +42,43 @@ struct Options {
   double flip_dihedral_deg = 30;  // Delaunay flips only between triangles within this angle of coplanar
   int intersection_retries = 4;   // halve the step of the vertices of new intersections this often, then revert them
 
-  void check() const;  // throws tetmvs::Error naming the bad value
+  // Throws tetmvs::Error naming the bad value: the documented ranges, then max_edge_px >
+  // 2 min_edge_px, an odd photo_window, photo_baseline_min_deg <= photo_baseline_max_deg.
+  void check() const;
   static Options from_params(const Params& p);  // reads deform.*, then check()s
   // The image-pyramid level of the photometric force at iteration `it` (-1: no photometric
   // force yet): photo_level_iterations iterations on each of the levels photo_coarsest_level
   // .. 1, then the full images (0).
   int photo_level(int it) const;
+
+  static constexpr auto params() {
+    return std::to_array<ParamField<Options>>({
+        {"deform.iterations", &Options::iterations},
+        {"deform.smooth_tangent", &Options::smooth_tangent},
+        {"deform.smooth_normal", &Options::smooth_normal},
+        {"deform.smooth_bilaplacian", &Options::smooth_bilaplacian},
+        {"deform.w_silhouette", &Options::w_silhouette},
+        {"deform.rim_cos", &Options::rim_cos},
+        {"deform.sil_band_px", &Options::sil_band_px},
+        {"deform.sil_max_px", &Options::sil_max_px},
+        {"deform.visibility_tol_px", &Options::visibility_tol_px},
+        {"deform.sil_tolerance_px", &Options::sil_tolerance_px},
+        {"deform.w_photo", &Options::w_photo},
+        {"deform.photo_start", &Options::photo_start},
+        {"deform.photo_window", &Options::photo_window},
+        {"deform.photo_partners", &Options::photo_partners},
+        {"deform.photo_baseline_min_deg", &Options::photo_baseline_min_deg},
+        {"deform.photo_baseline_max_deg", &Options::photo_baseline_max_deg},
+        {"deform.photo_coarsest_level", &Options::photo_coarsest_level},
+        {"deform.photo_level_iterations", &Options::photo_level_iterations},
+        {"deform.max_move_px", &Options::max_move_px},
+        {"deform.max_edge_px", &Options::max_edge_px},
+        {"deform.min_edge_px", &Options::min_edge_px},
+        {"deform.needle_ratio", &Options::needle_ratio},
+        {"deform.flip_dihedral_deg", &Options::flip_dihedral_deg},
+        {"deform.intersection_retries", &Options::intersection_retries},
+    });
+  }
 };
 
 }  // namespace deform

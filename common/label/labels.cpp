@@ -10,42 +10,21 @@
 #include "common/label/geometry.h"
 #include "common/label/hull.h"
 #include "common/label/votes.h"
-#include "common/params.h"
 
 namespace tetmvs::label {
 
 void Options::check() const {
-  require(low_percentile >= 0 && high_percentile <= 100 && low_percentile < high_percentile,
-          "label.low_percentile (", low_percentile, ") must be below label.high_percentile (", high_percentile,
-          "), both in [0, 100]");
-  require(min_views >= 1 && min_views <= 255, "label.min_views must lie in [1, 255], got ", min_views);
-  require(depth_margin_px >= 0 && std::isfinite(depth_margin_px), "label.depth_margin_px must be >= 0, got ",
-          depth_margin_px);
-  require(free_weight >= 0 && std::isfinite(free_weight), "label.free_weight must be >= 0, got ", free_weight);
-  require(std::isfinite(interior_depth_px), "label.interior_depth_px must be finite");
-  require(hull_core_px >= 0 && seed_core_px >= 0, "label.hull_core_px and label.seed_core_px must be >= 0");
-  require(seen_free_views >= 0 && seen_free_min_cells >= 0, "label.seen_free_views must be >= 0");
-  require(hull_depth_px >= 0 && std::isfinite(hull_depth_px), "label.hull_depth_px must be >= 0");
-  require(conflict_px >= 0 && std::isfinite(conflict_px), "label.conflict_px must be >= 0");
-  require(interior_min_share >= 0 && interior_min_share <= 1, "label.interior_min_share must lie in [0, 1]");
+  check_param_ranges(*this);
+  require(low_percentile < high_percentile, "label.low_percentile (", low_percentile,
+          ") must be below label.high_percentile (", high_percentile, ")");
+  require(seen_free_min_cells >= 0, "label options: seen_free_min_cells must be >= 0, got ", seen_free_min_cells);
   q_sil.check();
 }
 
 Options Options::from_params(const Params& p) {
   Options o;
-  o.low_percentile = p.d("label.low_percentile");
-  o.high_percentile = p.d("label.high_percentile");
-  o.min_views = p.i("label.min_views");
-  o.depth_margin_px = p.d("label.depth_margin_px");
-  o.free_weight = p.d("label.free_weight");
-  o.interior_depth_px = p.d("label.interior_depth_px");
-  o.hull_core_px = p.d("label.hull_core_px");
-  o.seed_core_px = p.d("label.seed_core_px");
-  o.seen_free_views = p.i("label.seen_free_views");
-  o.hull_depth_px = p.d("label.hull_depth_px");
-  o.interior_min_share = p.d("label.interior_min_share");
-  o.conflict_px = p.d("label.conflict_px");
-  o.q_sil = QSilhouetteOptions::from_params(p);
+  read_params(p, o);
+  read_params(p, o.q_sil);
   o.check();
   return o;
 }

@@ -23,6 +23,7 @@
 
 #include "common/label/q_filters.h"
 #include "common/label/rules.h"
+#include "common/param_binding.h"
 #include "common/q_silhouettes.h"
 #include "common/qpoints.h"
 #include "common/scene.h"
@@ -66,8 +67,27 @@ struct Options {
   double interior_min_share = 0;      // hidden: in a group of this share of the largest (0 = no test)
   double conflict_px = 0;             // conflict: reach in pixels at the object (0 = off)
   QSilhouetteOptions q_sil;           // silhouettes estimated from Q (scenes without any)
-  void check() const;                 // throws Error on a bad value
+  // Throws Error on a bad value: the documented ranges (q_sil's too), low_percentile <
+  // high_percentile, seen_free_min_cells >= 0.
+  void check() const;
   static Options from_params(const Params& p);  // reads label.* (and photo.q_hull*), then check()s
+
+  static constexpr auto params() {  // the fields that hold parameters (common/param_binding.h)
+    return std::to_array<ParamField<Options>>({
+        {"label.low_percentile", &Options::low_percentile},
+        {"label.high_percentile", &Options::high_percentile},
+        {"label.min_views", &Options::min_views},
+        {"label.depth_margin_px", &Options::depth_margin_px},
+        {"label.free_weight", &Options::free_weight},
+        {"label.interior_depth_px", &Options::interior_depth_px},
+        {"label.hull_core_px", &Options::hull_core_px},
+        {"label.seed_core_px", &Options::seed_core_px},
+        {"label.seen_free_views", &Options::seen_free_views},
+        {"label.hull_depth_px", &Options::hull_depth_px},
+        {"label.interior_min_share", &Options::interior_min_share},
+        {"label.conflict_px", &Options::conflict_px},
+    });
+  }
 };
 
 struct Result {

@@ -4,28 +4,14 @@
 #include <cmath>
 
 #include "common/error.h"
-#include "common/params.h"
 
 namespace tetmvs::photoconsist {
 
-void OcclusionOptions::check() const {
-  require(bin_px >= 0.5 && bin_px <= 64 && std::isfinite(bin_px), "photoconsist: photo.occl_bin_px = ", bin_px,
-          " must lie in [0.5, 64]");
-  require(support >= 1 && support <= 16, "photoconsist: photo.occl_support = ", support, " must lie in [1, 16]");
-  require(splat_cells >= 0 && splat_cells <= 8 && std::isfinite(splat_cells), "photoconsist: photo.occl_splat_cells = ",
-          splat_cells, " must lie in [0, 8]");
-  require(margin_cells >= 0 && margin_cells <= 16 && std::isfinite(margin_cells),
-          "photoconsist: photo.occl_margin_cells = ", margin_cells, " must lie in [0, 16]");
-}
+void OcclusionOptions::check() const { check_param_ranges(*this); }
 
 OcclusionOptions OcclusionOptions::from_params(const Params& p) {
   OcclusionOptions o;
-  o.enabled = p.b("photo.occlusion");
-  o.bin_px = p.d("photo.occl_bin_px");
-  o.support = p.i("photo.occl_support");
-  o.splat_cells = p.d("photo.occl_splat_cells");
-  o.margin_cells = p.d("photo.occl_margin_cells");
-  o.filter = p.b("photo.occl_filter");
+  read_params(p, o);
   o.check();
   return o;
 }

@@ -18,10 +18,12 @@
 // points in order).
 #pragma once
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
 
+#include "common/param_binding.h"
 #include "common/photo/views.h"
 #include "common/qpoints.h"
 
@@ -37,8 +39,19 @@ struct OcclusionOptions {
   double splat_cells = 0.5;  // photo.occl_splat_cells: disc radius, cells of the point's level
   double margin_cells = 1;   // photo.occl_margin_cells: depth margin, cells of the point's level
   bool filter = true;        // photo.occl_filter: drop occluders hidden in most of their own cameras
-  void check() const;
+  void check() const;  // throws Error on a value outside its documented range
   static OcclusionOptions from_params(const Params& p);
+
+  static constexpr auto params() {  // the fields that hold parameters (common/param_binding.h)
+    return std::to_array<ParamField<OcclusionOptions>>({
+        {"photo.occlusion", &OcclusionOptions::enabled},
+        {"photo.occl_bin_px", &OcclusionOptions::bin_px},
+        {"photo.occl_support", &OcclusionOptions::support},
+        {"photo.occl_splat_cells", &OcclusionOptions::splat_cells},
+        {"photo.occl_margin_cells", &OcclusionOptions::margin_cells},
+        {"photo.occl_filter", &OcclusionOptions::filter},
+    });
+  }
 };
 
 class OcclusionMaps {

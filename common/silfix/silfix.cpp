@@ -10,33 +10,15 @@
 
 #include "common/error.h"
 #include "common/silhouette/border.h"
-#include "common/params.h"
 #include "common/trimesh/raster.h"
 
 namespace tetmvs::silfix {
 
-void Options::check() const {
-  require(margin_px >= 0 && std::isfinite(margin_px), "silfix.margin_px must be >= 0, got ", margin_px);
-  require(pad_px >= 0 && std::isfinite(pad_px), "silfix.pad_px must be >= 0, got ", pad_px);
-  require(max_per_region >= 1, "silfix.max_per_region must be >= 1, got ", max_per_region);
-  require(spacing_px >= 0 && std::isfinite(spacing_px), "silfix.spacing_px must be >= 0, got ", spacing_px);
-  require(min_region_px >= 1, "silfix.min_region_px must be >= 1, got ", min_region_px);
-  require(min_peak >= 0 && min_peak <= 1, "silfix.min_peak must be in [0, 1], got ", min_peak);
-  require(peak_ratio > 0 && peak_ratio <= 1, "silfix.peak_ratio must be in (0, 1], got ", peak_ratio);
-  require(max_gap_cells >= 0, "silfix.max_gap_cells must be >= 0, got ", max_gap_cells);
-}
+void Options::check() const { check_param_ranges(*this); }
 
 Options Options::from_params(const Params& p) {
   Options o;
-  o.margin_px = p.d("silfix.margin_px");
-  o.pad_px = p.d("silfix.pad_px");
-  o.max_per_region = p.i("silfix.max_per_region");
-  o.spacing_px = p.d("silfix.spacing_px");
-  o.min_region_px = p.i("silfix.min_region_px");
-  o.min_peak = p.d("silfix.min_peak");
-  o.peak_ratio = p.d("silfix.peak_ratio");
-  o.max_gap_cells = p.i("silfix.max_gap_cells");
-  o.search_interval = p.b("silfix.search_interval");
+  read_params(p, o);
   o.check();
   return o;
 }

@@ -40,11 +40,13 @@
 //  silhouettes). The result is deterministic whatever the thread count (views are
 //  processed in parallel and merged in view order).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "common/param_binding.h"
 #include "common/reason.h"
 #include "common/scene.h"
 #include "common/tetmesh/locate.h"
@@ -69,8 +71,22 @@ struct Options {
   int max_gap_cells = 0;     // runs of inside cells separated by at most this many outside cells are one segment
   bool exterior = true;      // add exterior constraints
   bool interior = true;      // add interior constraints
-  void check() const;        // throws Error on a bad value
+  void check() const;        // throws Error on a value outside its documented range
   static Options from_params(const Params& p);  // reads silfix.*, then check()s
+
+  static constexpr auto params() {  // the fields that hold parameters (common/param_binding.h)
+    return std::to_array<ParamField<Options>>({
+        {"silfix.margin_px", &Options::margin_px},
+        {"silfix.pad_px", &Options::pad_px},
+        {"silfix.max_per_region", &Options::max_per_region},
+        {"silfix.spacing_px", &Options::spacing_px},
+        {"silfix.min_region_px", &Options::min_region_px},
+        {"silfix.min_peak", &Options::min_peak},
+        {"silfix.peak_ratio", &Options::peak_ratio},
+        {"silfix.search_interval", &Options::search_interval},
+        {"silfix.max_gap_cells", &Options::max_gap_cells},
+    });
+  }
 };
 
 enum Kind : std::int8_t { kExteriorKind = -1, kInteriorKind = 1 };
