@@ -1,8 +1,11 @@
 // Options of the photo-consistency measure (paper sections 2.3 and 3.1), validated
-// up front by check(). Defaults and meanings: params/defaults.json ("photo.*") and
-// docs/photo.md.
+// up front by check(). Defaults, ranges and meanings: params/defaults.json ("photo.*",
+// bound in params()) and docs/photo.md.
 #pragma once
 #include <algorithm>
+#include <array>
+
+#include "common/param_binding.h"
 
 namespace tetmvs {
 class Params;
@@ -23,8 +26,7 @@ struct Options {
   bool use_silhouettes = false;  // drop a view when the patch centre is outside its silhouette
   // Remove each patch's least-squares linear ramp (per axis) before the NCC
   // (normalize_patch_detrended, ncc.h): shading gradients on untextured surfaces then
-  // stop correlating perfectly off the surface. Off by default in the struct (the
-  // paper's measure); photo.detrend in params/defaults.json.
+  // stop correlating perfectly off the surface. Off by default (the paper's measure).
   bool detrend = false;
   // score_point (oriented_point.h) scores a mu x mu grid on the plane of each
   // orientation instead of the paper's 1 x mu line on the face plane. Set by
@@ -55,11 +57,24 @@ struct Options {
     // with partners set, as many of each reference's worst NCCs left out as with k views
     return partners > 0 ? std::max(1, used - 1 - (k - 1 - partners)) : std::max(used / 2, 3);
   }
-  // Throws tetmvs::Error naming the bad value.
+  // Throws tetmvs::Error naming the bad value: the documented ranges, an odd mu, mu and k
+  // within the arrays' bounds, partners <= k - 1.
   void check() const;
-  // Reads photo.mu, photo.k, photo.cone_deg, photo.T, photo.min_std, photo.use_silhouettes, photo.detrend,
-  // then check()s.
+  // Reads the parameters params() binds, then check()s. photoconsist derives the lattice
+  // points' options from these (photoconsist::PointMeasure).
   static Options from_params(const Params& p);
+
+  static constexpr auto params() {
+    return std::to_array<ParamField<Options>>({
+        {"photo.mu", &Options::mu},
+        {"photo.k", &Options::k},
+        {"photo.cone_deg", &Options::cone_deg},
+        {"photo.T", &Options::T},
+        {"photo.min_std", &Options::min_std},
+        {"photo.use_silhouettes", &Options::use_silhouettes},
+        {"photo.detrend", &Options::detrend},
+    });
+  }
 };
 
 }  // namespace photo

@@ -167,7 +167,8 @@ TEST(PhotoconsistLattice, PointCodes) {
 }
 
 TEST(PhotoconsistRule, MinAndMax) {
-  pc::CrossingRule r;  // 20 %, 20 points, min, at least 1
+  pc::CrossingRule r;  // 20 points, min, at least 1
+  r.fraction = 0.2;
   r.min_points_abs = 1;
   EXPECT_EQ(r.needed(15), 3);      // 20 % of 15 -> 3
   EXPECT_EQ(r.needed(100), 20);    // 20 % = 20
@@ -175,10 +176,10 @@ TEST(PhotoconsistRule, MinAndMax) {
   EXPECT_TRUE(r.crossing(20, 1225));
   EXPECT_FALSE(r.crossing(19, 1225));
   EXPECT_FALSE(r.crossing(0, 0));
-  r.use_max = true;
+  r.combine = "max";
   EXPECT_EQ(r.needed(15), 20);
   EXPECT_EQ(r.needed(1225), 245);
-  r.use_max = false;
+  r.combine = "min";
   r.min_points_abs = 2;
   EXPECT_EQ(r.needed(3), 2);  // never a single point
   EXPECT_FALSE(r.crossing(1, 3));
@@ -192,10 +193,12 @@ TEST(PhotoconsistRule, OptionsFromParamsAndChecks) {
   EXPECT_EQ(o.line.partners, p.i("photo.point_partners"));
   EXPECT_EQ(o.line.detrend, p.b("photo.point_detrend"));
   EXPECT_EQ(o.face.mu, p.i("photo.mu"));
-  p.set("photo.cross_rule=maybe");
-  EXPECT_THROW(pc::Options::from_params(p), tetmvs::Error);
+  EXPECT_THROW(p.set("photo.cross_rule=maybe"), tetmvs::Error);
   pc::Options bad = o;
   bad.lattice_px = 0;
+  EXPECT_THROW(bad.check(), tetmvs::Error);
+  bad = o;
+  bad.rule.combine = "maybe";
   EXPECT_THROW(bad.check(), tetmvs::Error);
 }
 
@@ -593,7 +596,7 @@ TEST(PhotoconsistScene, QHullHoldsTheSurfaceAndBoundsTheBox) {
   q.append(F.f0.points, 0, false);
   EXPECT_EQ(pc::estimate_q_hull(F.scene, q, F.m0.lat, F.opts).views, 0);  // the scene has silhouettes
   pc::Options off = F.opts;
-  off.q_hull = false;
+  off.q_sil.on = false;
   EXPECT_EQ(pc::estimate_q_hull(ns, q, F.m0.lat, off).views, 0);
   const pc::QHull qh = pc::estimate_q_hull(ns, q, F.m0.lat, F.opts);
   EXPECT_EQ(qh.views, ns.size());
