@@ -14,13 +14,15 @@ namespace {
 constexpr std::uint32_t kFixed = 0xFFFFFFFFu;  // node of a labelled cell: none
 }  // namespace
 
+void CutOptions::check() const { check_param_ranges(*this); }
+
 CutResult min_cut(const tet::TetMesh& m, const std::vector<float>& omega,
                   const std::vector<std::int8_t>& labels, const CutOptions& opt) {
   const std::int32_t C = m.num_cells(), F = m.num_faces();
   require(static_cast<std::int64_t>(omega.size()) == 2LL * F, "min_cut: ", omega.size(),
           " face scores for ", F, " faces (need 2 per face)");
   require(static_cast<std::int32_t>(labels.size()) == C, "min_cut: ", labels.size(), " labels for ", C, " cells");
-  require(opt.sigma > 0 && opt.lambda >= 0, "min_cut: sigma must be > 0 and lambda >= 0");
+  opt.check();
   const bool vis = opt.beta > 0 && opt.inside_evidence && opt.outside_evidence;
   if (vis)
     require(static_cast<std::int32_t>(opt.inside_evidence->size()) == C &&

@@ -14,9 +14,11 @@
 // Kolmogorov on compact arrays, one net terminal capacity per node). The result is the
 // minimum cut whose inside is smallest; its energy is checked against the flow.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
+#include "common/param_binding.h"
 #include "common/tetmesh/tetmesh.h"
 
 namespace tetmvs::cut {
@@ -24,15 +26,24 @@ namespace tetmvs::cut {
 enum Label : std::int8_t { kExterior = -1, kFree = 0, kInterior = 1 };
 
 struct CutOptions {
-  double lambda = 0.3;
-  double sigma = 0.1;
+  double lambda = 0.3;  // Eq. 1's weight of the area term
+  double sigma = 0.3;   // Eq. 1's sigma
   // Optional visibility term (an extension of the paper; 0 = the paper's graph): a free
   // cell c pays beta * s_c * inside_evidence[c] when it ends outside and
   // beta * s_c * outside_evidence[c] when it ends inside, with s_c = volume^(2/3) (an area,
   // like the face costs). It keeps the cut from shrinking onto a few interior seeds.
-  double beta = 0.0;
+  double beta = 0.3;
   const std::vector<float>* inside_evidence = nullptr;
   const std::vector<float>* outside_evidence = nullptr;
+  void check() const;  // throws Error on a value outside its documented range
+
+  static constexpr auto params() {  // the fields that hold parameters (common/param_binding.h)
+    return std::to_array<ParamField<CutOptions>>({
+        {"cut.lambda", &CutOptions::lambda},
+        {"cut.sigma", &CutOptions::sigma},
+        {"cut.visibility_weight", &CutOptions::beta},
+    });
+  }
 };
 
 struct CutResult {

@@ -21,13 +21,12 @@
 namespace tetmvs {
 namespace fs = std::filesystem;
 
+void SilhouetteOptions::check() const { check_param_ranges(*this); }
+
 SilhouetteOptions SilhouetteOptions::from(const Params& p) {
   SilhouetteOptions o;
-  o.threshold = p.d("ingest.sil_threshold");
-  o.dilate = p.i("ingest.sil_dilate");
-  o.erode = p.i("ingest.sil_erode");
-  o.min_area = p.d("ingest.sil_min_area");
-  o.fill_holes = p.b("ingest.sil_fill_holes");
+  read_params(p, o);
+  o.check();
   return o;
 }
 
@@ -49,6 +48,7 @@ void remove_small_blobs(cv::Mat& m, double min_area) {
 }  // namespace
 
 cv::Mat silhouette_from_dark_background(const cv::Mat& rgb, const SilhouetteOptions& o) {
+  o.check();
   require(rgb.type() == CV_8UC3, "silhouette: expected an 8-bit RGB image");
   cv::Mat m(rgb.rows, rgb.cols, CV_8U);
   const int thr = static_cast<int>(std::floor(o.threshold * 255.0));

@@ -5,11 +5,13 @@
 // <prefix>_good_silhouette_images.txt (only those views get a silhouette); optionally a
 // Middlebury README.txt stating the bounding box, or bbox.txt (two lines: min, max).
 #pragma once
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "common/param_binding.h"
 #include "common/params.h"
 #include "common/scene.h"
 
@@ -21,7 +23,18 @@ struct SilhouetteOptions {
   int erode = 7;            // pixels
   double min_area = 0.002;  // fraction of the image; smaller blobs are removed
   bool fill_holes = true;   // background regions not touching the border become object
+  void check() const;       // throws Error on a value outside its documented range
   static SilhouetteOptions from(const Params& p);
+
+  static constexpr auto params() {  // the fields that hold parameters (common/param_binding.h)
+    return std::to_array<ParamField<SilhouetteOptions>>({
+        {"ingest.sil_threshold", &SilhouetteOptions::threshold},
+        {"ingest.sil_dilate", &SilhouetteOptions::dilate},
+        {"ingest.sil_erode", &SilhouetteOptions::erode},
+        {"ingest.sil_min_area", &SilhouetteOptions::min_area},
+        {"ingest.sil_fill_holes", &SilhouetteOptions::fill_holes},
+    });
+  }
 };
 
 // Silhouette of an RGB image with a dark background (the Middlebury recipe:

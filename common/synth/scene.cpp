@@ -321,8 +321,11 @@ bool read_bbox_txt(const std::filesystem::path& f, Eigen::AlignedBox3d& box) {
 }
 }  // namespace
 
+void SynthConfig::check() const { check_param_ranges(*this); }
+
 nlohmann::json synthesize(const SynthConfig& c, const std::filesystem::path& out) {
   namespace fs = std::filesystem;
+  c.check();
   require(c.views >= 0, "--views must be >= 0, got ", c.views);
   require((c.width == 0) == (c.height == 0) && c.width >= 0 && c.height >= 0, "bad --size ", c.width, "x", c.height);
   std::vector<Camera> cams;

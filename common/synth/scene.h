@@ -5,6 +5,8 @@
 //   per-face float "region": 0 body, 1 cavity, 2 protrusion), synth.json (how it was made).
 #pragma once
 #include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <opencv2/core.hpp>
@@ -14,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/camera.h"
+#include "common/param_binding.h"
 #include "common/synth/texture.h"
 #include "common/trimesh/trimesh.h"
 
@@ -92,7 +95,8 @@ std::vector<Camera> write_dataset(const std::filesystem::path& dir, const TriMes
 
 namespace tetmvs::synth {
 
-// Everything the synth program needs (parameters synth.* of params/defaults.json).
+// Everything the synth program needs (parameters synth.* of params/defaults.json, bound in
+// params(); the rest from its command line).
 struct SynthConfig {
   std::string object;            // objects.h name, or a .ply file
   std::string cameras;           // a par file, "ring" or "hemisphere"
@@ -106,6 +110,27 @@ struct SynthConfig {
   double ring_elevation = 20, camera_radius = 0.65, focal = 0, box_size = 0.07;
   std::optional<Eigen::AlignedBox3d> box;  // scene box; default: the par folder's README.txt/bbox.txt, or the cube
   std::string prefix;            // default: the object name (a file's stem)
+  void check() const;            // throws Error on a parameter outside its documented range
+
+  static constexpr auto params() {  // the fields that hold parameters (common/param_binding.h)
+    return std::to_array<ParamField<SynthConfig>>({
+        {"synth.texture", &SynthConfig::texture},
+        {"synth.noise", &SynthConfig::noise},
+        {"synth.seed", &SynthConfig::seed},
+        {"synth.supersample", &SynthConfig::supersample},
+        {"synth.edge_px", &SynthConfig::edge_px},
+        {"synth.fill", &SynthConfig::fill},
+        {"synth.texture_min_px", &SynthConfig::texture_min_px},
+        {"synth.texture_max_px", &SynthConfig::texture_max_px},
+        {"synth.ambient", &SynthConfig::ambient},
+        {"synth.diffuse", &SynthConfig::diffuse},
+        {"synth.background", &SynthConfig::background},
+        {"synth.ring_elevation", &SynthConfig::ring_elevation},
+        {"synth.camera_radius", &SynthConfig::camera_radius},
+        {"synth.focal", &SynthConfig::focal},
+        {"synth.box_size", &SynthConfig::box_size},
+    });
+  }
 };
 
 // Builds the scene and writes the dataset folder; returns the synth.json content.

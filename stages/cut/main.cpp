@@ -60,9 +60,7 @@ int main(int argc, char** argv) {
     const std::vector<std::int8_t> labels = cut::read_labels(labels_file, C);
     auto lf = h5::File::open(labels_file, "tetmvs.labels");  // its other datasets
     cut::CutOptions opt;
-    opt.lambda = ctx.params.d("cut.lambda");
-    opt.sigma = ctx.params.d("cut.sigma");
-    opt.beta = ctx.params.d("cut.visibility_weight");
+    read_params(ctx.params, opt);
     std::vector<float> in_ev, out_ev;
     if (opt.beta > 0 && lf.has("/cells/inside_evidence") && lf.has("/cells/outside_evidence")) {
       in_ev = lf.read<float>("/cells/inside_evidence", {C}).data;

@@ -72,21 +72,7 @@ int main(int argc, char** argv) {
       require(!is.fail() && (lo.array() < hi.array()).all(), "--box needs six numbers, min below max: '", box, "'");
       c.box = Eigen::AlignedBox3d(lo, hi);
     }
-    c.texture = p.d("synth.texture");
-    c.noise = p.d("synth.noise");
-    c.seed = static_cast<std::uint64_t>(p.i("synth.seed"));
-    c.supersample = p.i("synth.supersample");
-    c.edge_px = p.d("synth.edge_px");
-    c.fill = p.d("synth.fill");
-    c.texture_min_px = p.d("synth.texture_min_px");
-    c.texture_max_px = p.d("synth.texture_max_px");
-    c.ambient = p.d("synth.ambient");
-    c.diffuse = p.d("synth.diffuse");
-    c.background = p.d("synth.background");
-    c.ring_elevation = p.d("synth.ring_elevation");
-    c.camera_radius = p.d("synth.camera_radius");
-    c.focal = p.d("synth.focal");
-    c.box_size = p.d("synth.box_size");
+    read_params(p, c);
     {
       // per rendering thread the supersampled depth and triangle rasters (8 bytes a sample)
       // and the RGB accumulator, mask and PNG (about 24 bytes a pixel); a par file's cameras
