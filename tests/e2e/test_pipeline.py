@@ -48,6 +48,16 @@ def main():
     have = {s for s in tiny_run.stages(SRC) if os.path.exists(os.path.join(BIN, s))}
     target = "all" if have >= tiny_run.stages(SRC) else ("mesh" if "photoconsist" not in have else "all")
     run = tiny_run.build(BIN, SRC, target)
+    # 0. every stage that reads a mesh or the photos checks its memory estimate against the
+    # budget first, and the run log records it next to the peak
+    log = os.path.join(run, "stages.jsonl")
+    if os.path.exists(log):
+        with open(log) as f:
+            entries = [json.loads(line) for line in f if line.strip()]
+        for e in entries:
+            if e["stage"] in ("photoconsist", "refine", "label", "cut", "silhouette-fix", "deform"):
+                expect(e.get("estimated_memory_mb", 0) > 0,
+                       f"stages.jsonl: {e['stage']} ({e.get('args', '')[:60]}) records its memory estimate")
     # 1. every HDF5 output matches its schema
     for pattern, doc in SCHEMA_OF.items():
         for f in sorted(glob.glob(os.path.join(run, pattern))):
