@@ -48,9 +48,16 @@ std::string format_bytes(double bytes) {
   return buf;
 }
 
+namespace {
+double g_largest_estimate = 0;
+}  // namespace
+
+double largest_memory_estimate() { return g_largest_estimate; }
+
 void check_memory_budget(const Params& p, double estimated_bytes, std::string_view what,
                          std::string_view hint) {
   const MemoryBudget b = memory_budget(p);
+  if (estimated_bytes > g_largest_estimate) g_largest_estimate = estimated_bytes;
   if (estimated_bytes <= b.bytes) {
     info(what, ": estimated memory ", format_bytes(estimated_bytes), " (budget ", format_bytes(b.bytes), ")");
     return;

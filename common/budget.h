@@ -30,6 +30,10 @@ MemoryBudget memory_budget(const Params& p);
 void check_memory_budget(const Params& p, double estimated_bytes, std::string_view what,
                          std::string_view hint);
 
+// The largest estimate check_memory_budget was given in this process (0: none), which the
+// stage's run log records next to the measured peak (a test compares the two).
+double largest_memory_estimate();
+
 // The budget of the running stage, set by StageCli from its parameters (none outside a
 // stage: unit tests). The readers check the sizes a file DECLARES (an HDF5 dataset's shape,
 // an image header's pixels, a PLY element count) against it before allocating, so that a

@@ -138,6 +138,7 @@ int StageCli::run(int argc, char** argv, const std::function<void(StageContext&)
       for (int i = 1; i < argc; ++i) args += (i > 1 ? " " : "") + std::string(argv[i]);
       j["args"] = args;
       j["cpu_seconds"] = static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+      if (largest_memory_estimate() > 0) j["estimated_memory_mb"] = largest_memory_estimate() / 1048576.0;
       if (const auto w = warnings_given(); !w.empty()) j["warnings"] = w;
       if (FILE* f = std::fopen(log, "a")) {
         std::fprintf(f, "%s\n", j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace).c_str());

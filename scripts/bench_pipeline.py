@@ -142,6 +142,8 @@ def main():
                       "bcc-init": 0}.get(e["stage"]),
             "wall_s": round(e.get("seconds", 0.0), 3), "cpu_s": round(e.get("cpu_seconds", 0.0), 3),
             "peak_memory_mb": round(e.get("peak_memory_mb", 0.0), 1), "threads": e.get("threads"),
+            # the stage's own estimate, checked against the budget before its big allocations
+            "estimated_memory_mb": round(e["estimated_memory_mb"], 1) if "estimated_memory_mb" in e else None,
             "counts": counts_of(e["stage"], e.get("summary", "")), "summary": e.get("summary", ""),
         })
     per_stage = {}
@@ -163,6 +165,12 @@ def main():
         "stages_wall_s": round(sum(s["wall_s"] for s in stages), 2),
         "peak_memory_mb": max(s["peak_memory_mb"] for s in stages),
         "per_stage": per_stage,
+        # stages whose peak exceeded their memory estimate (an estimate too low lets a run
+        # pass the budget check and then exhaust the machine)
+        "memory_estimate_low": [f"{s['stage']} {s['output']}: peak {s['peak_memory_mb']} MB, estimate "
+                                f"{s['estimated_memory_mb']} MB" for s in stages
+                                if s["estimated_memory_mb"] and s["peak_memory_mb"] > s["estimated_memory_mb"]
+                                and s["peak_memory_mb"] > 256],
         "stages": stages,
         "mesh": {"cells_level0": c0, "cells_final": cl,
                  "cells_uniform_same_finest": c0 * 8 ** args.levels if c0 else None,

@@ -58,6 +58,41 @@ std::vector<tetmvs::Camera> load_cameras(const fs::path& f, int w, int h) {
   for (auto& c : cams) c.width = w, c.height = h;
   return cams;
 }
+
+nlohmann::json roughness_json(const tetmvs::Roughness& r, double radius_px) {
+  return {{"radius", r.radius}, {"radius_px", radius_px}, {"samples", r.samples}, {"median", r.median}, {"p90", r.p90}};
+}
+
+// No ground truth: the mesh checks and the roughness, a pixel's length taken at the centre of
+// the reconstruction's box. Returns the summary line.
+std::string write_without_truth(const tetmvs::TriMesh& rec, const std::vector<tetmvs::Camera>& cams,
+                                const tetmvs::Params& p, const std::string& mesh, const std::string& cameras,
+                                const std::string& out) {
+  using namespace tetmvs;
+  require(rec.nv() > 0, mesh, ": the mesh has no vertices");
+  const auto [lo, hi] = bounds(rec);
+  const double px = pixel_footprint(cams, 0.5 * (lo + hi));
+  require(std::isfinite(px) && px > 0, cameras, ": the cameras give no pixel size at the mesh");
+  const double radius_px = p.d("eval.roughness_radius_px");
+  const Roughness rough = surface_roughness_px(rec, cams, radius_px);
+  const MeshCheck check = check_mesh(rec);
+  nlohmann::json j;
+  j["schema"] = "tetmvs.evaluate";
+  j["schema_version"] = 1;
+  j["num_cameras"] = static_cast<int>(cams.size());
+  j["pixel_size"] = px;
+  j["reconstruction"] = {{"point_cloud", rec.nf() == 0}, {"area", total_area(rec)}, {"check", to_json(check)}};
+  j["roughness"] = roughness_json(rough, radius_px);
+  j["inputs"] = {{"mesh", mesh}, {"cameras", cameras}};
+  j["params"] = p.values_for("evaluate");
+  write_text_atomic(out, j.dump(2) + "\n");
+  std::ostringstream s;
+  s.precision(4);
+  s << "no ground truth: " << rec.nv() << " vertices, " << check.components.size() << " components, "
+    << (check.closed ? "closed" : "open") << ", roughness=" << rough.median << " (radius " << rough.radius << ", "
+    << rough.median / px << " px)";
+  return s.str();
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -66,11 +101,13 @@ int main(int argc, char** argv) {
                "Accuracy (distance within which 90 % of the reconstruction lies) and completeness (share of the "
                "visible ground truth within 1.25 mm) of a reconstruction, per ground-truth region, plus mesh "
                "checks. Writes JSON (schemas/evaluate.md) and optionally a PNG of the reconstruction coloured by "
-               "its error.");
+               "its error. Without --gt: the mesh checks and the surface roughness only.");
   std::string mesh, gt, cameras, out, png, size, box, thresholds, labels, tetmesh;
   auto& app = cli.app();
   cli.add_input("--mesh", mesh, "reconstruction (PLY mesh or point cloud)")->required();
-  cli.add_input("--gt", gt, "ground-truth mesh (PLY; optional per-face/vertex 'region')")->required();
+  cli.add_input("--gt", gt,
+                "ground-truth mesh (PLY; optional per-face/vertex 'region'); without it, only the mesh checks and "
+                "the roughness");
   cli.add_input("--cameras", cameras, "cameras: a par file or scene.h5 (visibility of the ground truth)")->required();
   cli.add_output("--out", out, "output JSON")->required();
   cli.add_output("--png", png, "error picture (PNG)");
@@ -120,7 +157,14 @@ int main(int argc, char** argv) {
       o.region_box = Eigen::AlignedBox3d(lo, hi);
     }
     require(labels.empty() == tetmesh.empty(), "--labels and --tetmesh go together (labels.h5 with its mesh_<L>.h5)");
+    require(!gt.empty() || (png.empty() && labels.empty() && thresholds.empty() && box.empty()),
+            "--png, --labels, --thresholds and --region-box compare with a ground truth: give --gt");
     const TriMesh rec = read_ply(mesh);
+    if (gt.empty()) {
+      const std::vector<Camera> cams = load_cameras(cameras, w, h);
+      ctx.summary = write_without_truth(rec, cams, p, mesh, cameras, out);
+      return;
+    }
     const TriMesh g = read_ply(gt);
     std::optional<label::LabelTruth> truth;
     if (!labels.empty()) {
@@ -166,8 +210,7 @@ int main(int argc, char** argv) {
     const double radius_px = p.d("eval.roughness_radius_px");
     const Roughness rough = surface_roughness_px(rec, cams, radius_px);
     nlohmann::json j = to_json(r);
-    j["roughness"] = {{"radius", rough.radius}, {"radius_px", radius_px}, {"samples", rough.samples},
-                      {"median", rough.median}, {"p90", rough.p90}};
+    j["roughness"] = roughness_json(rough, radius_px);
     j["pixel_size"] = px;
     j["inputs"] = {{"mesh", mesh}, {"gt", gt}, {"cameras", cameras}};
     if (truth) {

@@ -24,6 +24,7 @@
 #include "common/photoconsist/files.h"
 #include "common/photoconsist/ground_truth.h"
 #include "common/photoconsist/level_pass.h"
+#include "common/photoconsist/memory.h"
 #include "common/photoconsist/level_scale.h"
 #include "common/photoconsist/q_hull.h"
 #include "common/ply.h"
@@ -99,11 +100,9 @@ int main(int argc, char** argv) {
     const pc::Options opts = pc::Options::from_params(ctx.params);
     Scene scene = read_scene(scene_file);
     {
-      // the mesh; per view the RGB, float grey and silhouette images; per face the quad-tree
-      // cache entry, the scores and the best oriented point (about 160 bytes)
       const MeshCounts mc = mesh_counts(mesh_file);
       const double pixels = static_cast<double>(scene.size()) * scene.cams[0].width * scene.cams[0].height;
-      const double bytes = mc.read_bytes() + 8.0 * pixels + 160.0 * mc.faces;
+      const double bytes = pc::memory_estimate(mc, pixels, scores);
       std::ostringstream what;
       what << "photoconsist: " << mesh_file << " (" << mc.faces << " faces, " << scene.size() << " views)";
       check_memory_budget(ctx.params, bytes, what.str(), "use fewer LEVELS or a coarser mesh.cells (MESH_CELLS)");

@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "common/budget.h"
 #include "common/cut/inputs.h"
 #include "common/cut/surface.h"
 #include "common/error.h"
@@ -22,6 +23,11 @@
 #include "common/tetmesh/mesh_io.h"
 
 namespace fs = std::filesystem;
+
+// Memory estimate, bytes beyond the program (64 MB) and the mesh arrays: per face the two
+// scores, per cell the labels, reasons and constraints, per pixel the silhouette and the
+// renders (torus and cup: 1.2-1.4 times the measured peak).
+constexpr double kBytesPerFace = 8, kBytesPerCell = 8, kBytesPerPixel = 4;
 using namespace tetmvs;
 
 namespace {
@@ -105,6 +111,15 @@ int main(int argc, char** argv) {
     }
     const char* kNote = "no view has a silhouette: silhouette-fix skipped, labels passed through unchanged";
 
+    {
+      const MeshCounts mc = mesh_counts(mesh_file);
+      const double pixels = static_cast<double>(scene.size()) * scene.cams[0].width * scene.cams[0].height;
+      const double bytes = 64.0 * 1048576.0 + mc.read_bytes() + kBytesPerFace * static_cast<double>(mc.faces) +
+                           kBytesPerCell * static_cast<double>(mc.cells) + kBytesPerPixel * pixels;
+      std::ostringstream what;
+      what << "silhouette-fix: " << mesh_file << " (" << mc.cells << " cells, " << scene.size() << " views)";
+      check_memory_budget(ctx.params, bytes, what.str(), "use a coarser final mesh (fewer LEVELS)");
+    }
     const tet::TetMesh mesh = tet::read_mesh(mesh_file);
     const std::int64_t F = mesh.num_faces(), C = mesh.num_cells();
     const std::vector<float> omega = cut::read_omega(scores_file, F);

@@ -48,6 +48,16 @@ def main():
     have = {s for s in tiny_run.stages(SRC) if os.path.exists(os.path.join(BIN, s))}
     target = "all" if have >= tiny_run.stages(SRC) else ("mesh" if "photoconsist" not in have else "all")
     run = tiny_run.build(BIN, SRC, target)
+    # 0. every stage that reads a mesh or the photos checks its memory estimate against the
+    # budget first, and the run log records it next to the peak
+    log = os.path.join(run, "stages.jsonl")
+    if os.path.exists(log):
+        with open(log) as f:
+            entries = [json.loads(line) for line in f if line.strip()]
+        for e in entries:
+            if e["stage"] in ("photoconsist", "refine", "label", "cut", "silhouette-fix", "deform"):
+                expect(e.get("estimated_memory_mb", 0) > 0,
+                       f"stages.jsonl: {e['stage']} ({e.get('args', '')[:60]}) records its memory estimate")
     # 1. every HDF5 output matches its schema
     for pattern, doc in SCHEMA_OF.items():
         for f in sorted(glob.glob(os.path.join(run, pattern))):
@@ -94,6 +104,23 @@ def main():
                f"evaluate warns about a threshold of thousands of pixels: {r.stderr.strip()[:200]}")
         if os.path.exists(os.path.join(run, "eval_units.json")):
             os.remove(os.path.join(run, "eval_units.json"))
+        # without a ground truth (a real set): the mesh checks and the same roughness
+        nogt = os.path.join(run, "eval_nogt.json")
+        r = subprocess.run([os.path.join(BIN, "evaluate"), "--mesh", os.path.join(run, "final.ply"), "--cameras",
+                            os.path.join(run, "scene.h5"), "--out", nogt, "--quiet"], capture_output=True, text=True)
+        expect(r.returncode == 0 and os.path.exists(nogt), f"evaluate without --gt runs: {r.stderr.strip()[:200]}")
+        if os.path.exists(nogt):
+            n = json.load(open(nogt))
+            expect("accuracy" not in n and "completeness" not in n and n["reconstruction"]["check"]["closed"],
+                   "evaluate without --gt: mesh checks only, no accuracy or completeness")
+            expect(abs(n["roughness"]["median"] - e["roughness"]["median"]) <= 0.05 * e["roughness"]["median"],
+                   f"evaluate without --gt: roughness {n['roughness']['median']} as with it ({e['roughness']['median']})")
+            os.remove(nogt)
+        r = subprocess.run([os.path.join(BIN, "evaluate"), "--mesh", os.path.join(run, "final.ply"), "--cameras",
+                            os.path.join(run, "scene.h5"), "--out", nogt, "--png", nogt + ".png", "--quiet"],
+                           capture_output=True, text=True)
+        expect(r.returncode != 0 and "give --gt" in r.stderr and not os.path.exists(nogt),
+               f"evaluate --png without --gt is refused: {r.stderr.strip()[:200]}")
     # labels against the ground truth, every cell (evaluate --labels; centroid on the wrong side)
     for surf, lab in (("cut1", "labels.h5"), ("cut2", "silfix.h5")):
         ev = os.path.join(run, f"eval_{surf}.json")
