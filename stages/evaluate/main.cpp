@@ -89,8 +89,8 @@ std::string write_without_truth(const tetmvs::TriMesh& rec, const std::vector<te
   std::ostringstream s;
   s.precision(4);
   s << "no ground truth: " << rec.nv() << " vertices, " << check.components.size() << " components, "
-    << (check.closed ? "closed" : "open") << ", roughness=" << rough.median << " (radius " << rough.radius << ", "
-    << rough.median / px << " px)";
+    << (check.closed ? "closed" : "open") << ", roughness=" << rough.median << " (" << rough.median / px
+    << " px) within radius " << rough.radius;
   return s.str();
 }
 }  // namespace
