@@ -1,6 +1,7 @@
 #include "common/qpoints.h"
 
 #include "common/error.h"
+#include "common/h5fields.h"
 #include "common/h5io.h"
 #include "common/ply.h"
 
@@ -18,15 +19,20 @@ void QPoints::add(const Eigen::Vector3d& X, const Eigen::Vector3d& n, float s,
   face.push_back(f);
 }
 
+const h5::Fields<QPoints>& qpoints_fields() {
+  static const h5::Fields<QPoints> t = h5::Fields<QPoints>()
+                                           .dataset("position", &QPoints::position, 3)
+                                           .dataset("normal", &QPoints::normal, 3)
+                                           .dataset("score", &QPoints::score)
+                                           .dataset("cam_offsets", &QPoints::cam_offsets)
+                                           .dataset("cams", &QPoints::cams)
+                                           .dataset("face", &QPoints::face);
+  return t;
+}
+
 void write_qpoints(h5::File& f, const QPoints& q, const std::string& g) {
-  const std::uint64_t P = q.score.size();
   f.create_group(g);
-  f.write(g + "/position", q.position, {P, 3});
-  f.write(g + "/normal", q.normal, {P, 3});
-  f.write(g + "/score", q.score, {P});
-  f.write(g + "/cam_offsets", q.cam_offsets, {P + 1});
-  f.write(g + "/cams", q.cams, {q.cams.size()});
-  f.write(g + "/face", q.face, {P});
+  qpoints_fields().write(f, q, g);
 }
 
 QPoints read_qpoints(const h5::File& f, int num_cameras, const std::string& g) {

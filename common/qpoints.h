@@ -9,7 +9,11 @@
 #include <vector>
 
 namespace tetmvs {
-namespace h5 { class File; }
+namespace h5 {
+class File;
+template <typename R>
+class Fields;
+}  // namespace h5
 
 struct QPoints {
   std::vector<double> position;        // P x 3, world
@@ -30,6 +34,9 @@ struct QPoints {
            const std::vector<std::int32_t>& cameras, std::int32_t f);
 };
 
+// The datasets of a group holding Q: position (P, 3), normal (P, 3), score, cam_offsets
+// (P + 1), cams, face (common/h5fields.h; paths relative to the group).
+const h5::Fields<QPoints>& qpoints_fields();
 // Writes /points/{position, normal, score, cam_offsets, cams, face}.
 void write_qpoints(h5::File& f, const QPoints& q, const std::string& group = "/points");
 // Reads and validates them (shapes, camera indices < num_cameras, offsets monotone).

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/error.h"
+#include "common/h5fields.h"
 #include "common/h5io.h"
 
 namespace tetmvs::photoconsist {
@@ -44,18 +45,23 @@ bool FaceCache::compatible(const tet::Lattice& lat, const std::string& sig, std:
   return true;
 }
 
+const h5::Fields<FaceCache>& face_cache_fields() {
+  static const h5::Fields<FaceCache> t = h5::Fields<FaceCache>()
+                                             .dataset("face", &FaceCache::face)
+                                             .dataset("vertices", &FaceCache::vlat, 9)
+                                             .dataset("divisions", &FaceCache::divisions)
+                                             .dataset("offsets", &FaceCache::offsets)
+                                             .dataset("codes", &FaceCache::codes)
+                                             .attr("", "level", &FaceCache::level)
+                                             .attr("", "lattice", &FaceCache::lattice)
+                                             .attr("", "signature", &FaceCache::signature)
+                                             .attr("", "pyramid", &FaceCache::pyramid);
+  return t;
+}
+
 void write_face_cache(h5::File& f, const FaceCache& c, const std::string& g) {
-  const std::uint64_t C = c.face.size();
   f.create_group(g);
-  f.write(g + "/face", c.face, {C});
-  f.write(g + "/vertices", c.vlat, {C, 9});
-  f.write(g + "/divisions", c.divisions, {C});
-  f.write(g + "/offsets", c.offsets, {C + 1});
-  f.write(g + "/codes", c.codes, {c.codes.size()});
-  f.set_attr(g, "level", static_cast<std::int64_t>(c.level));
-  f.set_attr(g, "lattice", c.lattice);
-  f.set_attr(g, "signature", c.signature);
-  f.set_attr(g, "pyramid", static_cast<std::int64_t>(c.pyramid));
+  face_cache_fields().write(f, c, g);
 }
 
 FaceCache read_face_cache(const h5::File& f, const std::string& g) {

@@ -12,7 +12,11 @@
 #include "common/tetmesh/tetmesh.h"
 
 namespace tetmvs {
-namespace h5 { class File; }
+namespace h5 {
+class File;
+template <typename R>
+class Fields;
+}  // namespace h5
 
 namespace photoconsist {
 
@@ -42,8 +46,10 @@ struct FaceCache {
 
 std::vector<double> lattice_key(const tet::Lattice& lat);
 
-// Group `g` (default /cache): datasets face, vertices, divisions, offsets, codes and
-// attributes level, lattice, signature.
+// The group of a face cache (paths relative to it): datasets face, vertices, divisions,
+// offsets, codes and attributes level, lattice, signature, pyramid (common/h5fields.h).
+const h5::Fields<FaceCache>& face_cache_fields();
+// Writes them to group `g` (default /cache).
 void write_face_cache(h5::File& f, const FaceCache& c, const std::string& g = "/cache");
 FaceCache read_face_cache(const h5::File& f, const std::string& g = "/cache");
 

@@ -4,11 +4,9 @@
 #include <filesystem>
 #include <sstream>
 
-#include "common/cut/cleanup.h"
-#include "common/cut/graph_cut.h"
+#include "common/cut/cut_file.h"
+#include "common/cut/cut_mesh.h"
 #include "common/cut/inputs.h"
-#include "common/cut/surface.h"
-#include "common/reason.h"
 #include "common/budget.h"
 #include "common/error.h"
 #include "common/h5io.h"
@@ -18,7 +16,6 @@
 #include "common/scene.h"
 #include "common/stage.h"
 #include "common/tetmesh/mesh_io.h"
-#include "common/trimesh/check.h"
 
 namespace fs = std::filesystem;
 using namespace tetmvs;
@@ -57,77 +54,20 @@ int main(int argc, char** argv) {
     const tet::TetMesh mesh = tet::read_mesh(mesh_file);
     const std::int64_t F = mesh.num_faces(), C = mesh.num_cells();
     const std::vector<float> omega = cut::read_omega(scores_file, F);
-    const std::vector<std::int8_t> labels = cut::read_labels(labels_file, C);
-    auto lf = h5::File::open(labels_file, "tetmvs.labels");  // its other datasets
     cut::CutOptions opt;
     read_params(ctx.params, opt);
-    std::vector<float> in_ev, out_ev;
-    if (opt.beta > 0 && lf.has("/cells/inside_evidence") && lf.has("/cells/outside_evidence")) {
-      in_ev = lf.read<float>("/cells/inside_evidence", {C}).data;
-      out_ev = lf.read<float>("/cells/outside_evidence", {C}).data;
-      for (std::int64_t c = 0; c < C; ++c)
-        require(in_ev[c] >= 0 && in_ev[c] <= 1 && out_ev[c] >= 0 && out_ev[c] <= 1, labels_file,
-                ": evidence values must lie in [0, 1]");
-      opt.inside_evidence = &in_ev;
-      opt.outside_evidence = &out_ev;
-    }
+    const cut::LabelInput labels = cut::read_label_input(labels_file, C, opt.beta > 0);
     info("cut: ", C, " cells, ", F, " faces, lambda ", opt.lambda, ", sigma ", opt.sigma);
-    cut::CutResult r = cut::min_cut(mesh, omega, labels, opt);
-    // Interior labels that do not protect a speck: silhouette-fix's constraints
-    // (kSilfixInterior) and the hull-core prior's (kHullCore; a core cell cut off from the body by the band
-    // is a single-cell shell, not a part of the object).
-    std::vector<std::uint8_t> weak(C, 0);
-    if (lf.has("/cells/reason")) {
-      const auto reason = lf.read<std::uint8_t>("/cells/reason", {C});
-      for (std::int64_t c = 0; c < C; ++c)
-        weak[c] = labels[c] > 0 && (reason.data[c] == kSilfixInterior || reason.data[c] == kHullCore);
-    }
-    const cut::CleanupStats cs =
-        cut::clean_up_regions(mesh, labels, r.inside, ctx.params.d("cut.min_region_fraction"), &weak);
-    require(r.cut_faces > 0, labels_file, ": the cut is empty (no interior cells survive); check the labels");
-    cut::SurfaceStats st;
-    std::vector<std::int32_t> face_ids;
-    TriMesh surface = cut::cut_surface(mesh, r.inside, &st, &face_ids);
-    const MeshCheck chk = check_mesh(surface);
+    const cut::Cut c = cut::cut_mesh(mesh, omega, labels, opt, ctx.params.d("cut.min_region_fraction"));
 
     auto f = h5::File::create(out);
     f.write_header("tetmvs.cut", 1, "cut", ctx.params.values_for("cut"), {mesh_file, scores_file, labels_file});
-    f.write("/cells/inside", r.inside, {static_cast<std::uint64_t>(C)});
-    f.write("/surface/face", face_ids);
-    f.set_attr("/", "energy", r.energy);
-    f.set_attr("/", "data_energy", r.data_energy);
-    f.set_attr("/", "area_energy", r.area_energy);
-    f.set_attr("/", "cut_area", r.cut_area);
-    f.set_attr("/", "visibility_energy", r.visibility_energy);
-    f.set_attr("/", "max_flow", r.max_flow);
-    f.set_attr("/", "cut_faces", r.cut_faces);
-    f.set_attr("/", "graph_nodes", r.graph_nodes);
-    f.set_attr("/", "graph_edges", r.graph_edges);
-    f.set_attr("/", "graph_bytes", r.graph_bytes);
-    f.set_attr("/", "split_vertices", st.split_vertices);
-    f.set_attr("/", "nonmanifold_edges", st.nonmanifold_edges);
-    f.set_attr("/", "reglued_edges", st.repaired_edges);
-    f.set_attr("/", "split_edges", st.split_edges);
-    f.set_attr("/", "voids_filled", cs.voids_filled);
-    f.set_attr("/", "void_exterior_cells", cs.void_exterior_cells);
-    f.set_attr("/", "specks_removed", cs.specks_removed);
-    f.set_attr("/", "components", static_cast<std::int64_t>(chk.components.size()));
-    f.set_attr("/", "closed", static_cast<std::int64_t>(chk.closed));
-    f.set_attr("/", "edge_manifold", static_cast<std::int64_t>(chk.edge_manifold));
+    cut::cut_fields().write(f, c);
     f.commit();
-    if (!png.empty()) write_png_rgb(png, render_sheet(surface, scene));
+    if (!png.empty()) write_png_rgb(png, render_sheet(c.surface, scene));
     // the PLY is make's target: committed last, so a stage killed before it leaves no PLY
     // whose cut file is missing
-    write_ply(ply, surface, {false, "tetmvs cut: outward-oriented triangles, world frame"});
-    std::ostringstream os;
-    os << r.cut_faces << " faces, " << surface.nv() << " vertices, " << chk.components.size()
-       << " components, " << (chk.closed ? "closed" : "OPEN") << ", "
-       << (chk.edge_manifold ? "edge-manifold" : "NON-MANIFOLD") << " (" << st.split_vertices
-       << " split vertices, " << st.nonmanifold_edges << " pinched edges: " << st.repaired_edges << " re-glued, "
-       << st.split_edges << " split), " << cs.voids_filled << " voids filled, "
-       << cs.specks_removed << " specks removed, energy " << r.energy << " (data "
-       << r.data_energy << ", area " << r.area_energy << "), graph " << r.graph_nodes << " nodes "
-       << r.graph_edges << " edges " << r.graph_bytes / 1048576.0 << " MB";
-    ctx.summary = os.str();
+    write_ply(ply, c.surface, {false, "tetmvs cut: outward-oriented triangles, world frame"});
+    ctx.summary = cut::summary_line(c);
   });
 }

@@ -7,12 +7,11 @@
 #include "common/error.h"
 #include "common/h5io.h"
 #include "common/label/labels.h"
+#include "common/label/labels_file.h"
 #include "common/qpoints.h"
 #include "common/scene.h"
 #include "common/stage.h"
-#include "common/image.h"
 #include "common/tetmesh/mesh_io.h"
-#include "common/tetmesh/slice.h"
 
 using namespace tetmvs;
 
@@ -52,46 +51,9 @@ int main(int argc, char** argv) {
             "lower label.min_views or raise label.low_percentile, or give silhouettes (label.seed_core_px)");
     auto f = h5::File::create(out);
     f.write_header("tetmvs.labels", 1, "label", ctx.params.values_for("label"), {scene_file, mesh_file, scores_file});
-    f.write("/cells/label", r.label);
-    f.write("/cells/reason", r.reason);
-    f.write("/cells/votes", r.votes);
-    f.write("/cells/inside_evidence", r.inside_evidence);
-    f.write("/cells/outside_evidence", r.outside_evidence);
-    f.write("/cells/free_views", r.free_views);
-    f.write("/cells/beyond_views", r.beyond_views);
-    f.write("/cells/hidden_views", r.hidden_views);
-    f.write("/cells/seen_views", r.seen_views);
-    f.write("/cells/hidden_depth", r.hidden_depth);
-    f.set_attr("/", "low_votes", r.low_votes);
-    f.set_attr("/", "high_votes", r.high_votes);
-    f.set_attr("/", "interior", r.interior);
-    f.set_attr("/", "exterior", r.exterior);
-    f.set_attr("/", "rays", r.rays);
-    f.set_attr("/", "q_sil_views", r.q_sil_views);
-    for (int k = 0; k < label::kNumFilters; ++k) f.set_attr("/", std::string("dropped_") + label::kFilterNames[k], r.dropped[k]);
-    for (const auto& rule : label::kRules) f.set_attr("/", std::string("rule_") + rule.name, r.count(rule.rule));
-    f.set_attr("/", "too_deep", r.too_deep);
-    f.set_attr("/", "interior_islands", r.interior_islands);
-    f.set_attr("/", "voted_out_near_hull", r.voted_out_near_hull);
-    f.set_attr("/", "seen_free_islands", r.seen_free_islands);
+    label::labels_fields().write(f, r);
     f.commit();
-    if (!slice.empty()) {
-      // a slice through the box centre, cells coloured by label
-      tet::SliceSpec spec;
-      spec.axis = 2;
-      spec.position = scene.box.center().z();
-      const std::vector<int> lab(r.label.begin(), r.label.end());
-      write_png_rgb(slice, tet::render_slice(mesh, spec, tet::colours_by_label(lab)));
-    }
-    // every count as key=value (scripts/bench_pipeline.py reads them)
-    std::ostringstream os;
-    os << "interior=" << r.interior << " exterior=" << r.exterior << " rays=" << r.rays << " low_votes=" << r.low_votes
-       << " high_votes=" << r.high_votes << " q_sil_views=" << r.q_sil_views << "; points of Q dropped:";
-    for (int k = 0; k < label::kNumFilters; ++k) os << " " << label::kFilterNames[k] << "=" << r.dropped[k];
-    os << "; cells by rule:";
-    for (const auto& rule : label::kRules) os << " " << rule.name << "=" << r.count(rule.rule);
-    os << "; turned down: too_deep=" << r.too_deep << " interior_islands=" << r.interior_islands
-       << " voted_out_near_hull=" << r.voted_out_near_hull << " seen_free_islands=" << r.seen_free_islands;
-    ctx.summary = os.str();
+    if (!slice.empty()) label::write_label_slice(slice, mesh, scene, r);
+    ctx.summary = label::labels_fields().summary(r);
   });
 }
