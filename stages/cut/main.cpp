@@ -22,7 +22,7 @@ using namespace tetmvs;
 
 // Bytes per graph edge (of the bound 2 x faces + 4 x cells) and per node. The cup's finest
 // mesh (4.3 M cells) makes 17.8 M of the 34.8 M edges the bound allows, in 335 MB (19.7 bytes
-// an edge made, the nodes' arrays included): the stage peaks at 971 MB, the estimate is 1.42 GB.
+// an edge made, the nodes' arrays included): the stage peaks at 971 MiB, the estimate is 1386 MiB.
 constexpr double kCutBytesPerEdge = 20, kCutBytesPerNode = 8;
 
 int main(int argc, char** argv) {
