@@ -234,8 +234,10 @@ def cli_cases(ds, tmp):
 
 
 # ---- pipeline.mk ----------------------------------------------------------------------------
+# 8 ring views and the paper's 60 degree cone: no patch is seen by k = 5 cameras, so the run has
+# no photo-consistent point (make_cases checks the warning)
 MAKE_VARS = ["DATA=synth-torus", "SYNTH_CAMERAS=ring", "SYNTH_FLAGS=--views 8 --size 128x96", "LEVELS=2",
-             "MESH_CELLS=8", "QUIET=1"]
+             "MESH_CELLS=8", "CONE_DEG=60", "QUIET=1"]
 
 
 def make(tmp, *extra, run="run"):
@@ -259,7 +261,7 @@ def make_cases(tmp):
     r = make(tmp, "cut1", "evaluate")
     if not succeeded(r, "make of the small run"):
         return
-    # the run has no photo-consistent point (8 views of 128 x 96): it says so
+    # the run has no photo-consistent point (8 views of 128 x 96, 60 degree cone): it says so
     log = [json.loads(l) for l in open(os.path.join(run, "stages.jsonl"))]
     expect(any("no photo-consistent point" in w for j in log for w in j.get("warnings", [])),
            "the run log has no warning about the missing points")

@@ -99,6 +99,7 @@ TEST(PhotoViews, RejectsBadInputs) {
 }
 
 TEST(CameraSelect, ConeOrderAndTies) {
+  constexpr double kDeg = std::numbers::pi / 180;
   const PlaneScene& s = scene(0);
   const Views& v = views(0);
   Options o;
@@ -120,6 +121,16 @@ TEST(CameraSelect, ConeOrderAndTies) {
   EXPECT_EQ(got, (std::set<int>{0, 2, 4}));
   // Downward normal: nothing within 60 deg.
   EXPECT_TRUE(select_cameras(v, s.O, Eigen::Vector3d(0, 0, -1), Options{}).empty());
+  // A normal tilted 50 deg from the cameras' axis: the default cone admits cameras up to
+  // 75 deg from it, which a 60 deg cone (the paper's) leaves out, and no camera beyond.
+  const Eigen::Vector3d tilted(std::sin(50 * kDeg), 0, std::cos(50 * kDeg));
+  const auto wide = select_cameras(v, s.O, tilted, Options{});
+  Options paper;
+  paper.cone_deg = 60;
+  const auto narrow = select_cameras(v, s.O, tilted, paper);
+  EXPECT_GT(wide.size(), narrow.size());
+  for (const auto& x : wide) EXPECT_GE(x.cos, std::cos(75 * kDeg) - 1e-12);
+  for (const auto& x : narrow) EXPECT_GE(x.cos, std::cos(60 * kDeg) - 1e-12);
   // Exact ties resolve by index: two identical cameras.
   std::vector<Camera> cams = {s.cams[1], s.cams[1], s.cams[3]};  // polar 32, 32, 35 deg
   std::vector<cv::Mat> grey = {s.grey[1], s.grey[1], s.grey[3]};
@@ -157,7 +168,8 @@ TEST(CameraSelect, PointOutsideImageOrSilhouetteDropsTheView) {
 
 TEST(PointScore, OnSurfaceHighWithNearestOrientation) {
   Options o;
-  o.mu = 11;  // the paper's 1 x 11 line
+  o.mu = 11;  // the paper's 1 x 11 line and 60 degree cone
+  o.cone_deg = 60;
   Scratch scratch;
   for (int w = 0; w < 3; ++w) {
     const PlaneScene& s = scene(w);
@@ -200,7 +212,8 @@ TEST(PointScore, OffSurfaceLow) {
   // chance value (mean ~0.5 here, docs/photo.md), not ~0. So this test checks the
   // distribution over 100 points, and the 2-D patch (121 samples) point by point.
   Options o;
-  o.mu = 11;  // the paper's mu
+  o.mu = 11;  // the paper's mu and cone
+  o.cone_deg = 60;
   Scratch scratch;
   for (int w = 0; w < 3; ++w) {
     const PlaneScene& s = scene(w);
