@@ -226,7 +226,7 @@ void File::create_group(const std::string& name) {
 }
 
 template <typename T>
-void File::write(const std::string& name, const T* data, const Shape& shape, bool compress) {
+void File::write(const std::string& name, const T* data, const Shape& shape) {
   const std::string n = norm(name);
   const size_t slash = n.rfind('/');
   if (slash > 0) create_group(n.substr(0, slash));
@@ -246,12 +246,6 @@ void File::write(const std::string& name, const T* data, const Shape& shape, boo
     std::uint64_t row = total / dims[0] * sizeof(T);
     chunk[0] = std::clamp<hsize_t>(static_cast<hsize_t>((256 * 1024) / std::max<std::uint64_t>(row, 1)), 1, dims[0]);
     H5Pset_chunk(dcpl, static_cast<int>(chunk.size()), chunk.data());
-    if (compress) {
-      // deflate level 1: on dinoRing's finest mesh (127 MB) a fifth less write time than
-      // level 4 for 8 % more bytes; reading costs the same
-      H5Pset_shuffle(dcpl);
-      H5Pset_deflate(dcpl, 1);
-    }
   }
   Id ds(H5Dcreate2(id_, n.c_str(), mem_type<T>(), space, H5P_DEFAULT, dcpl, H5P_DEFAULT), H5Dclose);
   if (ds < 0) fail(target_.string(), ": cannot create dataset ", n);
@@ -497,7 +491,7 @@ std::string file_sha256(const fs::path& file) {
 }
 
 #define TETMVS_H5_INSTANTIATE(T)                                                              \
-  template void File::write<T>(const std::string&, const T*, const Shape&, bool);             \
+  template void File::write<T>(const std::string&, const T*, const Shape&);             \
   template Array<T> File::read<T>(const std::string&, const std::vector<std::int64_t>&, bool) \
       const;
 TETMVS_H5_INSTANTIATE(double)

@@ -61,14 +61,14 @@ class File {
   void create_group(const std::string& name);  // parents created as needed
 
   // Datasets. Shape defaults to {n}. Arrays of more than 64 Ki elements are chunked
-  // and deflate-compressed (compress = false turns compression off).
+  // (about 256 KiB a chunk) and stored uncompressed: most files are read by several stages,
+  // and inflating them cost more CPU than reading the larger file (docs/architecture.md).
   template <typename T>
-  void write(const std::string& name, const T* data, const Shape& shape, bool compress = true);
+  void write(const std::string& name, const T* data, const Shape& shape);
   template <typename T>
-  void write(const std::string& name, const std::vector<T>& v, Shape shape = {},
-             bool compress = true) {
+  void write(const std::string& name, const std::vector<T>& v, Shape shape = {}) {
     if (shape.empty()) shape = {v.size()};
-    write(name, v.data(), shape, compress);
+    write(name, v.data(), shape);
   }
   void write_strings(const std::string& name, const std::vector<std::string>& v);
 
