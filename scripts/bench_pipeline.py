@@ -5,7 +5,8 @@ memory and the work counts the stage reported (faces tested, lattice points, NCC
 cells, graph nodes and edges), the adaptive mesh against a uniform BCC mesh of the same
 finest cell size, the speed targets (a 48-view 640 x 480 object in 90 s wall and 180 CPU-s,
 photoconsist in 60 CPU-s, 2 GB) with how far each is missed, and on a synthetic scene the
-accuracy and completeness of cut1, cut2 and final (evaluated after the timed run).
+accuracy and completeness of cut1, cut2 and final and, per level, the recall and precision of
+the crossing faces against the ground truth (both measured after the timed run).
 
   scripts/bench_pipeline.py --data dinoRing --levels 4
   scripts/bench_pipeline.py --data synth-torus --levels 3 --out bench/results/synth-torus.json
@@ -21,6 +22,7 @@ import json
 import os
 import platform
 import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -82,6 +84,39 @@ def mesh_cells(path):
         return None
 
 
+def synth_gt(args):
+    """gt.ply of a synthetic scene (pipeline.mk's SYNTH_DIR, default data/)."""
+    synth_dir = next((v.split("=", 1)[1] for v in args.vars if v.startswith("SYNTH_DIR=")), os.path.join(ROOT, "data"))
+    return os.path.join(synth_dir, args.data, "gt.ply")
+
+
+def crossing_recall(run_dir, entries, gt):
+    """Per level, photoconsist's level pass run again with --gt on the run's own mesh, cache
+    and parameters (its logged command line) into run_dir/recall/: the share of the faces the
+    true surface crosses that the pass found (recall), of the found faces within two cells of
+    the surface (precision), of the crossed cells made active (cell_recall), and the counts."""
+    import h5py
+    out_dir = os.path.join(run_dir, "recall")
+    os.makedirs(out_dir, exist_ok=True)
+    rows = []
+    for e in entries:
+        a = e.get("args", "")
+        if e.get("stage") != "photoconsist" or level_of(a) is None:
+            continue
+        argv = shlex.split(a)
+        out = os.path.join(out_dir, f"pc_{level_of(a)}.h5")
+        argv[argv.index("--out") + 1] = out
+        subprocess.run([os.path.join(ROOT, "build", "bin", "photoconsist")] + argv + ["--gt", gt, "--quiet"], check=True)
+        with h5py.File(out, "r") as f:
+            ev = dict(f["eval"].attrs)
+        rows.append({"level": level_of(a)} | {k: (round(float(v), 5) if isinstance(v, float) else int(v))
+                                               for k, v in ev.items() if k in (
+                                                   "recall", "precision", "cell_recall", "gt_crossed", "found",
+                                                   "crossing", "crossing_near", "points_within_cell")})
+    shutil.rmtree(out_dir)
+    return rows
+
+
 def run_make(args, run_dir, extra, targets):
     cmd = ["make", "-f", os.path.join(ROOT, "pipeline.mk"), f"DATA={args.data}", f"RUN_DIR={run_dir}",
            f"LEVELS={args.levels}", "QUIET=1"] + extra + targets
@@ -116,8 +151,7 @@ def main():
         # a synthetic scene's rendering is not part of the pipeline: render it first
         if args.data.startswith("synth-"):
             synth_vars = [v for v in args.vars if v.startswith(("SYNTH_DIR=", "SYNTH_FLAGS=", "SYNTH_CAMERAS="))]
-            synth_dir = next((v.split("=", 1)[1] for v in synth_vars if v.startswith("SYNTH_DIR=")), os.path.join(ROOT, "data"))
-            gt = os.path.join(synth_dir, args.data, "gt.ply")
+            gt = synth_gt(args)
             if not os.path.exists(gt):
                 subprocess.run(["make", "-s", "-f", os.path.join(ROOT, "pipeline.mk"), f"DATA={args.data}"] + synth_vars + [gt],
                                check=True)
@@ -197,6 +231,8 @@ def main():
             if d.get("labels"):
                 q["wrong_labels"] = {side: d["labels"][side]["wrong"] for side in ("interior", "exterior")}
             result.setdefault("quality", {})[ev] = q
+    if args.data.startswith("synth-") and os.path.exists(synth_gt(args)):
+        result.setdefault("quality", {})["crossing_faces"] = crossing_recall(run_dir, entries, synth_gt(args))
     text = json.dumps(result, indent=1)
     with open(os.path.join(run_dir, "bench.json.tmp"), "w") as f:
         f.write(text)
@@ -210,7 +246,12 @@ def main():
     for k, s in per_stage.items():
         print(f"  {k:16s} {s['wall_s']:9.1f} s wall {s['cpu_s']:9.1f} s cpu {s['peak_memory_mb']:8.0f} MB  x{s['runs']}")
     for k, q in result.get("quality", {}).items():
-        print(f"  {k}: accuracy90 {q['accuracy_mm']} mm, completeness {100 * q['completeness']:.2f} %")
+        if k == "crossing_faces":
+            for r in q:
+                print(f"  level {r['level']} crossing faces: recall {r['recall']:.4f}, precision {r['precision']:.4f} "
+                      f"({r['found']} of {r['gt_crossed']} crossed found, {r['crossing']} found in all)")
+        else:
+            print(f"  {k}: accuracy90 {q['accuracy_mm']} mm, completeness {100 * q['completeness']:.2f} %")
     for k, t in result["targets"].items():
         print(f"  target {k}: {t['measured']} vs {t['target']} -> {'met' if t['met'] else 'missed by %.0f %%' % (100 * t['missed_by'])}")
 

@@ -315,6 +315,19 @@ std::string build_report(const Options& o) {
           << "</td><td class=num>" << fmt(s.value("peak_memory_mb", 0.0), 4) << "</td><td>" << esc(counts) << "</td></tr>\n";
       }
       h << "</table>\n";
+      // synthetic scenes: per level, the crossing faces against the faces the true surface
+      // crosses (the surfaces' accuracy is in the results table)
+      const json q = b.value("quality", json::object());
+      if (q.contains("crossing_faces")) {
+        h << "<table><tr><th>level</th><th>faces the surface crosses</th><th>found of them (recall)</th>"
+          << "<th>crossing faces found</th><th>within two cells (precision)</th></tr>\n";
+        for (const auto& r : q["crossing_faces"])
+          h << "<tr><td>" << r.value("level", 0) << "</td><td class=num>" << r.value("gt_crossed", 0)
+            << "</td><td class=num>" << r.value("found", 0) << " (" << fmt(r.value("recall", 0.0), 4) << ")</td><td class=num>"
+            << r.value("crossing", 0) << "</td><td class=num>" << r.value("crossing_near", 0) << " ("
+            << fmt(r.value("precision", 0.0), 4) << ")</td></tr>\n";
+        h << "</table>\n";
+      }
     } catch (const std::exception& e) {
       h << "<p class=bad>bench.json unreadable: " << esc(e.what()) << "</p>\n";
     }

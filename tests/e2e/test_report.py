@@ -139,6 +139,26 @@ def main():
                f"stage {st} in the time/memory table with its wall time")
     expect("cut.lambda" in html and "photo.T" in html, "parameters listed")
 
+    # a benchmark's bench.json (scripts/bench_pipeline.py) adds its tables, with the crossing
+    # faces' recall and precision per level on a synthetic scene
+    bench = {"git": "abc1234", "machine": {"cpus": 2}, "levels": 2,
+             "targets": {"pipeline_wall_s": {"measured": 40.5, "target": 90.0, "met": True}},
+             "mesh": {"cells_final": 1000, "cells_uniform_same_finest": 4000, "fraction_of_uniform": 0.25},
+             "stages": [], "quality": {"crossing_faces": [
+                 {"level": 1, "gt_crossed": 17024, "found": 17020, "recall": 0.99977, "crossing": 49587,
+                  "crossing_near": 48469, "precision": 0.97751}]}}
+    with open(os.path.join(run, "bench.json"), "w") as f:
+        json.dump(bench, f)
+    bench_page = os.path.join(run, "report", "bench.html")
+    r = subprocess.run([os.path.join(BIN, "report"), run, "--out", bench_page, "--quiet"], capture_output=True, text=True)
+    expect(r.returncode == 0, f"report with bench.json exits 0: {r.stderr[-300:]}")
+    bhtml = open(bench_page, encoding="utf-8").read() if os.path.exists(bench_page) else ""
+    expect("<h2>Benchmark" in bhtml, "the benchmark section is shown")
+    expect(re.search(r"<tr><td>1</td><td class=num>17024</td><td class=num>17020 \(0\.9998\)</td>"
+                     r"<td class=num>49587</td><td class=num>48469 \(0\.9775\)</td></tr>", bhtml) is not None,
+           "the crossing faces' row of level 1: crossed, found (recall), found in all, near (precision)")
+    os.remove(os.path.join(run, "bench.json"))
+
     # a real browser
     chromium = shutil.which("chromium")
     if not chromium:
