@@ -18,7 +18,7 @@ inline constexpr int kMaxKPrime = kMaxK - 1;
 inline constexpr int kMaxMu = 31;
 
 struct Options {
-  int mu = 7;              // patch size in samples: 1 x mu line or mu x mu grid
+  int mu = 5;              // patch size in samples: 1 x mu line or mu x mu grid
   int k = 5;               // cameras used per patch (the best k within the cone)
   double cone_deg = 75.0;  // max angle between the patch normal and the direction to a camera
   double T = 0.6;          // a point is photo-consistent when its score > T (docs/photoconsist.md)
