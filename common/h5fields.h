@@ -13,9 +13,11 @@
 //   summary = table.summary(r);
 //
 // Getters are member pointers or callables taking the result (by const reference). What a
-// getter returns decides what is written: a std::vector of a numeric type a dataset; an
-// integer or bool an int64 attribute, a floating-point value a float64 one, a string a
-// string one, a std::vector<double> a float64 array. A std::optional is written (and shown)
+// getter returns decides what is written: a std::vector of a numeric type a dataset (a
+// std::vector of std::array<T, K> one of K columns, a std::vector<std::string> a string
+// dataset, an h5::Array<T> a dataset of its own shape); an integer or bool an int64
+// attribute, a floating-point value a float64 one, a string a string one, a
+// std::vector<double> or a std::array of numbers a float64 array. A std::optional is written (and shown)
 // only when it holds a value. group() writes a part of the result with its own table under
 // a group (a std::optional part only when present). count() and text() add to the summary
 // line only: counts the file does not store, and the line's headings.
@@ -24,6 +26,7 @@
 // ("; cells by rule:"). Numbers print as std::ostream prints them (or with a fixed number
 // of decimals, show(key, decimals)).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <iomanip>
@@ -60,6 +63,48 @@ struct is_vector : std::false_type {};
 template <typename T, typename A>
 struct is_vector<std::vector<T, A>> : std::true_type {};
 
+template <typename T>
+struct is_std_array : std::false_type {};
+template <typename T, std::size_t K>
+struct is_std_array<std::array<T, K>> : std::true_type {};
+
+template <typename T>
+struct is_h5_array : std::false_type {};
+template <typename T>
+struct is_h5_array<Array<T>> : std::true_type {};
+
+// Writes a dataset's value: a std::vector (of numbers: shape (n,) or (n / cols, cols); of
+// std::array<T, K>: (n, K); of strings: (n,)) or an h5::Array (its shape).
+template <typename V>
+void write_dataset(File& f, const std::string& name, const V& v, std::uint64_t cols) {
+  if constexpr (is_h5_array<V>::value) {
+    std::uint64_t total = 1;
+    for (const auto d : v.shape) total *= d;
+    require(!v.shape.empty() && total == v.data.size(), f.path().string(), ": ", name, " holds ", v.data.size(),
+            " values, not the ", total, " of its shape");
+    f.write(name, v.data.data(), v.shape);
+  } else {
+    static_assert(is_vector<V>::value, "a dataset's getter returns a std::vector or an h5::Array");
+    using T = typename V::value_type;
+    if constexpr (std::is_same_v<T, std::string>) {
+      f.write_strings(name, v);
+    } else if constexpr (is_std_array<T>::value) {
+      using E = typename T::value_type;
+      static_assert(std::is_arithmetic_v<E> && sizeof(T) == std::tuple_size_v<T> * sizeof(E));
+      require(cols == 1, f.path().string(), ": ", name, ": rows of std::array take their columns from it");
+      f.write(name, v.empty() ? static_cast<const E*>(nullptr) : v.front().data(),
+              {v.size(), std::tuple_size_v<T>});
+    } else {
+      require(cols > 0 && v.size() % cols == 0, f.path().string(), ": ", name, " holds ", v.size(),
+              " values, not rows of ", cols);
+      if (cols == 1)
+        f.write(name, v, {v.size()});
+      else
+        f.write(name, v, {v.size() / cols, cols});
+    }
+  }
+}
+
 // Calls f(value) with the getter's value, or not at all for an empty std::optional.
 template <typename V, typename F>
 void with_value(const V& v, F&& f) {
@@ -85,6 +130,8 @@ void write_attr(File& f, const std::string& obj, const std::string& name, const 
     f.set_attr(obj, name, static_cast<double>(v));
   else if constexpr (std::is_same_v<V, std::vector<double>>)
     f.set_attr(obj, name, v);
+  else if constexpr (is_std_array<V>::value)
+    f.set_attr(obj, name, std::vector<double>(v.begin(), v.end()));
   else
     f.set_attr(obj, name, std::string(v));
 }
@@ -111,22 +158,14 @@ template <typename R>
 class Fields {
  public:
   // A dataset at `path` from a getter returning a std::vector<T>; shape (n,), or (n / cols,
-  // cols) for cols > 1.
+  // cols) for cols > 1; (n, K) for a std::vector<std::array<T, K>>; an h5::Array<T>'s shape.
   template <typename Get>
   Fields& dataset(std::string path, Get get, std::uint64_t cols = 1) {
     Row row;
     row.name = path;
     row.write = [path, get, cols](File& f, const R& r, const std::string& base) {
-      fields_detail::with_value(std::invoke(get, r), [&](const auto& vec) {
-        using Vec = std::decay_t<decltype(vec)>;
-        static_assert(fields_detail::is_vector<Vec>::value, "a dataset's getter returns a std::vector");
-        const std::string name = fields_detail::join(base, path);
-        require(cols > 0 && vec.size() % cols == 0, f.path().string(), ": ", name, " holds ", vec.size(),
-                " values, not rows of ", cols);
-        if (cols == 1)
-          f.write(name, vec, {vec.size()});
-        else
-          f.write(name, vec, {vec.size() / cols, cols});
+      fields_detail::with_value(std::invoke(get, r), [&](const auto& v) {
+        fields_detail::write_dataset(f, fields_detail::join(base, path), v, cols);
       });
     };
     rows_.push_back(std::move(row));
@@ -257,7 +296,8 @@ class Fields {
       std::optional<std::string> out;
       fields_detail::with_value(std::invoke(get, r), [&](const auto& v) {
         using V = std::decay_t<decltype(v)>;
-        if constexpr (fields_detail::is_vector<V>::value)
+        if constexpr (fields_detail::is_vector<V>::value || fields_detail::is_std_array<V>::value ||
+                      fields_detail::is_h5_array<V>::value)
           out.reset();  // arrays are not shown
         else
           out = fields_detail::text_of(v, decimals);

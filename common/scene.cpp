@@ -1,10 +1,12 @@
 #include "common/scene.h"
 
+#include <array>
 #include <cstring>
+#include <optional>
 #include <sstream>
 
 #include "common/error.h"
-#include "common/h5io.h"
+#include "common/h5fields.h"
 #include "common/image.h"
 #include "common/silhouette/border.h"
 
@@ -28,56 +30,105 @@ bool Scene::in_silhouette(int v, double u, double vv, bool outside_value) const 
   return sil[v].at<std::uint8_t>(y, x) != 0;
 }
 
+namespace {
+
+std::uint64_t width(const Scene& s) { return static_cast<std::uint64_t>(s.cams[0].width); }
+std::uint64_t height(const Scene& s) { return static_cast<std::uint64_t>(s.cams[0].height); }
+
+// A 3 x 3 matrix per camera, row-major: shape (n, 3, 3).
+h5::Array<double> per_camera(const Scene& s, const Eigen::Matrix3d Camera::*member) {
+  h5::Array<double> a{{}, {s.cams.size(), 3, 3}};
+  for (const auto& c : s.cams)
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) a.data.push_back((c.*member)(r, k));
+  return a;
+}
+
+std::vector<std::string> camera_names(const Scene& s) {
+  std::vector<std::string> names;
+  for (const auto& c : s.cams) names.push_back(c.name);
+  return names;
+}
+
+std::vector<std::array<double, 3>> camera_translations(const Scene& s) {
+  std::vector<std::array<double, 3>> t;
+  for (const auto& c : s.cams) t.push_back({c.t[0], c.t[1], c.t[2]});
+  return t;
+}
+
+std::vector<std::array<std::int32_t, 2>> image_sizes(const Scene& s) {
+  std::vector<std::array<std::int32_t, 2>> size;
+  for (const auto& c : s.cams) size.push_back({c.width, c.height});
+  return size;
+}
+
+// (n, H, W, 3) RGB; none when the scene holds no images.
+std::optional<h5::Array<std::uint8_t>> images(const Scene& s) {
+  if (s.rgb.empty()) return std::nullopt;
+  const std::uint64_t n = s.cams.size(), H = height(s), W = width(s);
+  h5::Array<std::uint8_t> a{std::vector<std::uint8_t>(n * H * W * 3), {n, H, W, 3}};
+  for (std::uint64_t i = 0; i < n; ++i)
+    for (std::uint64_t y = 0; y < H; ++y)
+      std::memcpy(&a.data[(i * H + y) * W * 3], s.rgb[i].ptr(static_cast<int>(y)), W * 3);
+  return a;
+}
+
+// (n, H, W), 255 inside; zeros for a view without a silhouette.
+h5::Array<std::uint8_t> silhouette_masks(const Scene& s) {
+  const std::uint64_t n = s.cams.size(), H = height(s), W = width(s);
+  h5::Array<std::uint8_t> a{std::vector<std::uint8_t>(n * H * W, 0), {n, H, W}};
+  for (std::uint64_t i = 0; i < n; ++i) {
+    if (s.sil.size() <= i || s.sil[i].empty()) continue;
+    for (std::uint64_t y = 0; y < H; ++y) std::memcpy(&a.data[(i * H + y) * W], s.sil[i].ptr(static_cast<int>(y)), W);
+  }
+  return a;
+}
+
+std::vector<std::uint8_t> silhouette_valid(const Scene& s) {
+  std::vector<std::uint8_t> valid(s.cams.size(), 0);
+  for (std::size_t i = 0; i < valid.size(); ++i) valid[i] = s.sil.size() > i && !s.sil[i].empty();
+  return valid;
+}
+
+std::vector<double> corner(const Eigen::Vector3d& p) { return {p.x(), p.y(), p.z()}; }
+
+h5::Fields<Scene> make_scene_fields() {
+  h5::Fields<Scene> t;
+  t.dataset("/cameras/names", camera_names)
+      .dataset("/cameras/K", [](const Scene& s) { return per_camera(s, &Camera::K); })
+      .dataset("/cameras/R", [](const Scene& s) { return per_camera(s, &Camera::R); })
+      .dataset("/cameras/t", camera_translations)
+      .dataset("/cameras/size", image_sizes)
+      .dataset("/images/rgb", images)
+      .dataset("/silhouettes/mask", silhouette_masks)
+      .dataset("/silhouettes/valid", silhouette_valid)
+      .dataset("/box/min", [](const Scene& s) { return corner(s.box.min()); })
+      .dataset("/box/max", [](const Scene& s) { return corner(s.box.max()); })
+      .attr("/box", "source", &Scene::box_source)
+      .attr("/", "dataset", &Scene::dataset);
+  return t;
+}
+
+}  // namespace
+
+const h5::Fields<Scene>& scene_fields() {
+  static const h5::Fields<Scene> t = make_scene_fields();
+  return t;
+}
+
 void write_scene(h5::File& f, const Scene& s) {
   const int n = s.size();
   require(n > 0, f.path().string(), ": a scene needs at least one camera");
   const int W = s.cams[0].width, H = s.cams[0].height;
-  std::vector<std::string> names;
-  std::vector<double> K, R, t;
-  std::vector<std::int32_t> size;
-  for (const auto& c : s.cams) {
+  for (const auto& c : s.cams)
     require(c.width == W && c.height == H, f.path().string(), ": image ", c.name, " is ", c.width,
             "x", c.height, " but the first image is ", W, "x", H, "; all images must share one size");
-    names.push_back(c.name);
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k) {
-        K.push_back(c.K(r, k));
-        R.push_back(c.R(r, k));
-      }
-    for (int k = 0; k < 3; ++k) t.push_back(c.t[k]);
-    size.push_back(c.width);
-    size.push_back(c.height);
-  }
-  const std::uint64_t N = n;
-  f.write_strings("/cameras/names", names);
-  f.write("/cameras/K", K, {N, 3, 3});
-  f.write("/cameras/R", R, {N, 3, 3});
-  f.write("/cameras/t", t, {N, 3});
-  f.write("/cameras/size", size, {N, 2});
-  if (!s.rgb.empty()) {
-    std::vector<std::uint8_t> img(N * H * W * 3);
+  if (!s.rgb.empty())
     for (int i = 0; i < n; ++i) {
       const cv::Mat& m = s.rgb[i];
       require(m.type() == CV_8UC3 && m.cols == W && m.rows == H, "write_scene: bad image ", i);
-      for (int y = 0; y < H; ++y)
-        std::memcpy(&img[((std::size_t(i) * H + y) * W) * 3], m.ptr(y), std::size_t(W) * 3);
     }
-    f.write("/images/rgb", img.data(), {N, std::uint64_t(H), std::uint64_t(W), 3});
-  }
-  std::vector<std::uint8_t> mask(N * H * W, 0), valid(N, 0);
-  for (int i = 0; i < n; ++i) {
-    if (s.sil.size() <= static_cast<size_t>(i) || s.sil[i].empty()) continue;
-    valid[i] = 1;
-    for (int y = 0; y < H; ++y)
-      std::memcpy(&mask[(std::size_t(i) * H + y) * W], s.sil[i].ptr(y), W);
-  }
-  f.write("/silhouettes/mask", mask.data(), {N, std::uint64_t(H), std::uint64_t(W)});
-  f.write("/silhouettes/valid", valid);
-  const Eigen::Vector3d lo = s.box.min(), hi = s.box.max();
-  f.write("/box/min", std::vector<double>{lo.x(), lo.y(), lo.z()});
-  f.write("/box/max", std::vector<double>{hi.x(), hi.y(), hi.z()});
-  f.set_attr("/box", "source", s.box_source);
-  f.set_attr("/", "dataset", s.dataset);
+  scene_fields().write(f, s);
 }
 
 Scene read_scene(const std::filesystem::path& file, bool images) {

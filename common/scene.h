@@ -45,9 +45,11 @@ std::vector<std::string> check_scene_images(const Scene& s, const std::string& w
 // refusals). images = false skips the colour images (cameras, box and silhouettes only).
 Scene read_scene(const std::filesystem::path& file, bool images = true);
 
-// Writes the scene's datasets into an open HDF5 file (the caller writes the header
-// and commits). All images must share one size.
-namespace h5 { class File; }
+// The datasets and attributes of scene.h5: cameras, images, silhouettes, box.
+namespace h5 { template <typename R> class Fields; class File; }
+const h5::Fields<Scene>& scene_fields();
+// Writes scene_fields() into an open HDF5 file (the caller writes the header and commits),
+// after checking that there is a camera and that all images share one size.
 void write_scene(h5::File& f, const Scene& s);
 
 inline constexpr const char* kSceneSchema = "tetmvs.scene";

@@ -79,10 +79,6 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
 void sample_vertex_colours(TriMesh& m, const Scene& scene, double visibility_tol_px,
                            const std::vector<ViewRaster>* rasters = nullptr);
 
-// Writes the statistics file (schemas/deform.md) and commits it.
-void write_stats(const std::filesystem::path& file, const Result& r, const std::string& stage,
-                 const nlohmann::json& params, const std::vector<std::filesystem::path>& inputs);
-
 inline constexpr const char* kDeformSchema = "tetmvs.deform";
 inline constexpr int kDeformVersion = 2;
 

@@ -18,6 +18,18 @@ void CrossingRule::check() const { check_param_ranges(*this); }
 
 void PointMeasure::check() const { check_param_ranges(*this); }
 
+void PointMeasure::check_with(const photo::Options& face) const {
+  check();
+  const int cameras = k > 0 ? k : face.k;
+  if (k > 0)
+    require(partners <= cameras - 1, "photo.point_partners = ", partners, " must be at most photo.point_k - 1 = ",
+            cameras - 1, " (a reference view's partners are the other cameras of its patch)");
+  else
+    require(partners <= cameras - 1, "photo.point_partners = ", partners, " must be at most ", cameras - 1,
+            ": photo.point_k = 0 gives the lattice points photo.k = ", cameras,
+            " cameras (a reference view's partners are the other cameras of its patch)");
+}
+
 photo::Options PointMeasure::applied_to(const photo::Options& face) const {
   photo::Options line = face;
   line.point_grid = patch == "grid";
@@ -47,7 +59,7 @@ Options Options::from_params(const Params& p) {
   read_params(p, o.occl);
   PointMeasure point;
   read_params(p, point);
-  point.check();
+  point.check_with(o.face);
   o.line = point.applied_to(o.face);
   o.check();
   return o;

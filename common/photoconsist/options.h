@@ -57,6 +57,9 @@ struct PointMeasure {
   // `face` with the above, scoring with fewer than k views when fewer are usable (adaptive_k).
   photo::Options applied_to(const photo::Options& face) const;
   void check() const;  // throws Error on a value outside its documented range
+  // check(), and partners at most the patch's cameras - 1 (point_k, or with point_k = 0
+  // face.k): the Error names photo.point_partners and photo.point_k.
+  void check_with(const photo::Options& face) const;
 
   static constexpr auto params() {  // the fields that hold parameters (common/param_binding.h)
     return std::to_array<ParamField<PointMeasure>>({

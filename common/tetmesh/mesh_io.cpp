@@ -27,51 +27,85 @@ std::vector<std::array<T, K>> unflat(const std::vector<T>& v) {
 }
 }  // namespace
 
-void write_mesh(const std::filesystem::path& file, const TetMesh& m, const std::string& stage,
-                const nlohmann::json& params, const std::vector<std::filesystem::path>& inputs) {
-  auto f = h5::File::create(file);
-  f.write_header(kMeshSchema, kMeshVersion, stage, params, inputs);
-  f.set_attr("/", "level", std::int64_t{m.level});
-  f.set_attr("/", "lattice_origin", std::vector<double>{m.lat.origin.x(), m.lat.origin.y(), m.lat.origin.z()});
-  f.set_attr("/", "lattice_h", m.lat.h);
-  f.set_attr("/", "lattice_dims", std::vector<double>{double(m.lat.dims[0]), double(m.lat.dims[1]), double(m.lat.dims[2])});
-  f.set_attr("/", "lattice_bits", std::int64_t{kLatticeBits});
-  f.set_attr("/", "lattice_unit", m.lat.unit());
-  f.set_attr("/", "num_level0", std::int64_t{m.num_level0});
-  const std::uint64_t NV = m.num_vertices(), NC = m.num_cells(), NF = m.num_faces(), NN = m.num_nodes();
+namespace {
+
+std::vector<double> vertex_positions(const TetMesh& m) {
+  const std::uint64_t NV = m.num_vertices();
   std::vector<double> xyz(3 * NV);
   for (std::uint64_t v = 0; v < NV; ++v) {
     const Eigen::Vector3d p = m.vertex(static_cast<std::int32_t>(v));
     xyz[3 * v] = p.x(), xyz[3 * v + 1] = p.y(), xyz[3 * v + 2] = p.z();
   }
-  f.write("/vertices", xyz, {NV, 3});
-  f.write("/vertices_lattice", m.vlat, {NV, 3});
-  f.write("/vertex_parent", m.vparent, {NV, 2});
-  f.write("/cells", flat(m.cell_v), {NC, 4});
+  return xyz;
+}
+
+std::vector<std::int8_t> cell_levels(const TetMesh& m) {
+  const std::uint64_t NC = m.num_cells();
   std::vector<std::int8_t> lev(NC);
   for (std::uint64_t c = 0; c < NC; ++c) lev[c] = m.node_level[m.cell_node[c]];
-  f.write("/cell_level", lev);
-  f.write("/cell_colour", m.cell_colour);
-  f.write("/cell_node", m.cell_node);
-  f.write("/cell_new_red", m.cell_new_red);
-  f.write("/cell_faces", flat(m.cell_face), {NC, 4});
-  std::vector<std::int32_t> fv(3 * NF), fc(2 * NF);
-  for (std::uint64_t i = 0; i < NF; ++i) {
-    const auto v = m.face_vertices(static_cast<std::int32_t>(i));
-    fv[3 * i] = v[0], fv[3 * i + 1] = v[1], fv[3 * i + 2] = v[2];
-    fc[2 * i] = m.face_cell(static_cast<std::int32_t>(i), 0);
-    fc[2 * i + 1] = m.face_cell(static_cast<std::int32_t>(i), 1);
-  }
-  f.write("/faces", fv, {NF, 3});
-  f.write("/face_cells", fc, {NF, 2});
-  f.write("/face_parent", m.face_parent);
-  f.write("/face_sub", m.face_sub);
-  f.write("/tree/vertices", flat(m.node_v), {NN, 4});
-  f.write("/tree/level", m.node_level);
-  f.write("/tree/parent", m.node_parent);
-  f.write("/tree/first_child", m.node_child);
-  f.write("/tree/first_cell", m.node_cell);
-  f.write("/tree/num_cells", m.node_ncell);
+  return lev;
+}
+
+std::vector<std::array<std::int32_t, 3>> face_vertex_rows(const TetMesh& m) {
+  std::vector<std::array<std::int32_t, 3>> fv(m.num_faces());
+  for (std::size_t i = 0; i < fv.size(); ++i) fv[i] = m.face_vertices(static_cast<std::int32_t>(i));
+  return fv;
+}
+
+std::vector<std::array<std::int32_t, 2>> face_cell_rows(const TetMesh& m) {
+  std::vector<std::array<std::int32_t, 2>> fc(m.num_faces());
+  for (std::size_t i = 0; i < fc.size(); ++i)
+    fc[i] = {m.face_cell(static_cast<std::int32_t>(i), 0), m.face_cell(static_cast<std::int32_t>(i), 1)};
+  return fc;
+}
+
+h5::Fields<TetMesh> make_mesh_fields() {
+  h5::Fields<TetMesh> t;
+  t.attr("/", "level", &TetMesh::level)
+      .attr("/", "lattice_origin",
+            [](const TetMesh& m) { return std::array<double, 3>{m.lat.origin.x(), m.lat.origin.y(), m.lat.origin.z()}; })
+      .attr("/", "lattice_h", [](const TetMesh& m) { return m.lat.h; })
+      .attr("/", "lattice_dims",
+            [](const TetMesh& m) {
+              return std::array<double, 3>{double(m.lat.dims[0]), double(m.lat.dims[1]), double(m.lat.dims[2])};
+            })
+      .attr("/", "lattice_bits", [](const TetMesh&) { return kLatticeBits; })
+      .attr("/", "lattice_unit", [](const TetMesh& m) { return m.lat.unit(); })
+      .attr("/", "num_level0", &TetMesh::num_level0)
+      .dataset("/vertices", vertex_positions, 3)
+      .dataset("/vertices_lattice", &TetMesh::vlat, 3)
+      .dataset("/vertex_parent", &TetMesh::vparent, 2)
+      .dataset("/cells", &TetMesh::cell_v)
+      .dataset("/cell_level", cell_levels)
+      .dataset("/cell_colour", &TetMesh::cell_colour)
+      .dataset("/cell_node", &TetMesh::cell_node)
+      .dataset("/cell_new_red", &TetMesh::cell_new_red)
+      .dataset("/cell_faces", &TetMesh::cell_face)
+      .dataset("/faces", face_vertex_rows)
+      .dataset("/face_cells", face_cell_rows)
+      .dataset("/face_parent", &TetMesh::face_parent)
+      .dataset("/face_sub", &TetMesh::face_sub)
+      .dataset("/tree/vertices", &TetMesh::node_v)
+      .dataset("/tree/level", &TetMesh::node_level)
+      .dataset("/tree/parent", &TetMesh::node_parent)
+      .dataset("/tree/first_child", &TetMesh::node_child)
+      .dataset("/tree/first_cell", &TetMesh::node_cell)
+      .dataset("/tree/num_cells", &TetMesh::node_ncell);
+  return t;
+}
+
+}  // namespace
+
+const h5::Fields<TetMesh>& mesh_fields() {
+  static const h5::Fields<TetMesh> t = make_mesh_fields();
+  return t;
+}
+
+void write_mesh(const std::filesystem::path& file, const TetMesh& m, const std::string& stage,
+                const nlohmann::json& params, const std::vector<std::filesystem::path>& inputs) {
+  auto f = h5::File::create(file);
+  f.write_header(kMeshSchema, kMeshVersion, stage, params, inputs);
+  mesh_fields().write(f, m);
   f.commit();
 }
 

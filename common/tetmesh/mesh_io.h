@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/h5fields.h"
 #include "common/tetmesh/tetmesh.h"
 
 namespace tetmvs::tet {
@@ -13,7 +14,10 @@ namespace tetmvs::tet {
 inline constexpr const char* kMeshSchema = "tetmvs.mesh";
 inline constexpr int kMeshVersion = 1;
 
-// Writes mesh_<i>.h5 (atomically). `params`/`inputs` go into the standard header.
+// The datasets and attributes of a mesh file: the lattice on the root group, vertices,
+// cells, faces and the refinement tree (/tree/*).
+const h5::Fields<TetMesh>& mesh_fields();
+// Writes mesh_<i>.h5 (atomically) from mesh_fields(). `params`/`inputs` go into the standard header.
 void write_mesh(const std::filesystem::path& file, const TetMesh& m, const std::string& stage,
                 const nlohmann::json& params, const std::vector<std::filesystem::path>& inputs);
 // Reads and validates a mesh file (schema, shapes, tree links; faces rebuilt and compared).

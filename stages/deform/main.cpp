@@ -6,6 +6,7 @@
 
 #include "common/budget.h"
 #include "common/deform/deform.h"
+#include "common/deform/stats_file.h"
 #include "common/error.h"
 #include "common/image.h"
 #include "common/ply.h"
@@ -46,7 +47,11 @@ int main(int argc, char** argv) {
     const deform::Result r = deform::deform_mesh(start, scene, opt);
     // the PLY is make's target: written last, so an interrupted run never leaves a final
     // mesh without its statistics and picture
-    deform::write_stats(stats, r, "deform", ctx.params.values_for("deform"), {scene_file, mesh_file});
+    auto f = h5::File::create(stats);
+    f.write_header(deform::kDeformSchema, deform::kDeformVersion, "deform", ctx.params.values_for("deform"),
+                   {scene_file, mesh_file});
+    deform::stats_fields().write(f, r);
+    f.commit();
     if (!png.empty()) write_png_rgb(png, render_sheet(r.mesh, scene));
     write_ply(out, r.mesh, {false, "tetmvs deform: final mesh, outward triangles, world frame"});
     const MeshCheck chk = check_mesh(r.mesh);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -183,4 +184,65 @@ TEST(H5Fields, RowsOfAFixedWidthMustFill) {
 TEST(H5Fields, ShowNeedsAnAttributeOrACount) {
   EXPECT_THROW(h5::Fields<FieldsResult>().dataset("/x", &FieldsResult::label).show(), Error);
   EXPECT_THROW(h5::Fields<FieldsResult>().text("a").show(), Error);
+}
+
+namespace {
+
+struct ShapedResult {
+  std::vector<std::array<std::int32_t, 4>> cells;
+  std::vector<std::string> names;
+  std::optional<h5::Array<std::uint8_t>> image;
+  std::array<double, 3> origin{};
+  std::vector<std::array<std::int32_t, 4>> no_cells;
+};
+
+h5::Fields<ShapedResult> shaped_table() {
+  using R = ShapedResult;
+  return h5::Fields<R>()
+      .dataset("/cells", &R::cells)
+      .dataset("/names", &R::names)
+      .dataset("/image", &R::image)
+      .dataset("/empty", &R::no_cells)
+      .attr("/", "origin", &R::origin);
+}
+
+}  // namespace
+
+TEST(H5Fields, ArrayRowsStringsAndShapedArrays) {
+  const fs::path p = fields_file("shaped");
+  ShapedResult r;
+  r.cells = {{0, 1, 2, 3}, {4, 5, 6, 7}, {8, 9, 10, 11}};
+  r.names = {"a", "bc", ""};
+  r.image = h5::Array<std::uint8_t>{{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12}, {2, 2, 3}};
+  r.origin = {0.5, -1, 2};
+  {
+    auto f = h5::File::create(p);
+    shaped_table().write(f, r);
+    f.commit();
+  }
+  {
+    const auto f = h5::File::open(p);
+    // std::array<T, K> rows: (n, K) of T
+    EXPECT_EQ(f.read<std::int32_t>("/cells", {3, 4}).data, (std::vector<std::int32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11}));
+    EXPECT_EQ(f.read_strings("/names"), r.names);
+    // an h5::Array keeps its shape
+    EXPECT_EQ(f.read<std::uint8_t>("/image", {2, 2, 3}).data, r.image->data);
+    EXPECT_EQ(f.shape_of("/empty"), (h5::Shape{0, 4}));
+    // a std::array attribute: float64 values
+    EXPECT_EQ(f.attr_doubles("/", "origin"), (std::vector<double>{0.5, -1, 2}));
+  }
+  // an h5::Array whose data does not fill its shape is refused; an empty optional is left out
+  r.image->shape = {2, 2, 2};
+  {
+    auto f = h5::File::create(p);
+    EXPECT_THROW(shaped_table().write(f, r), Error);
+  }
+  r.image.reset();
+  {
+    auto f = h5::File::create(p);
+    shaped_table().write(f, r);
+    f.commit();
+  }
+  EXPECT_FALSE(h5::File::open(p).has("/image"));
+  fs::remove_all(p.parent_path());
 }

@@ -202,6 +202,44 @@ TEST(PhotoconsistRule, OptionsFromParamsAndChecks) {
   EXPECT_THROW(bad.check(), tetmvs::Error);
 }
 
+// photo.point_k within its documented 0..16; the lattice points' partners (photo.point_partners)
+// at most their cameras - 1, point_k's or, with point_k = 0, photo.k's: the Error names both.
+TEST(PhotoconsistRule, PointCamerasAndPartners) {
+  const auto message = [](const Params& p) -> std::string {
+    try {
+      pc::Options::from_params(p);
+    } catch (const tetmvs::Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  pc::PointMeasure m;
+  m.k = 17;
+  EXPECT_THROW(m.check(), tetmvs::Error);
+  m.k = -1;
+  EXPECT_THROW(m.check(), tetmvs::Error);
+  m.k = 16;
+  m.partners = 15;
+  EXPECT_NO_THROW(m.check());
+  Params p = Params::defaults();
+  p.set("photo.k=5");
+  p.set("photo.point_k=0");
+  p.set("photo.point_partners=4");
+  EXPECT_EQ(message(p), "");  // photo.k's 5 cameras: 4 partners each
+  EXPECT_EQ(pc::Options::from_params(p).line.k, 5);
+  p.set("photo.point_partners=6");
+  std::string e = message(p);
+  EXPECT_NE(e.find("photo.point_partners = 6"), std::string::npos) << e;
+  EXPECT_NE(e.find("photo.point_k = 0"), std::string::npos) << e;
+  EXPECT_NE(e.find("photo.k = 5"), std::string::npos) << e;
+  p.set("photo.point_k=4");
+  e = message(p);
+  EXPECT_NE(e.find("photo.point_partners = 6"), std::string::npos) << e;
+  EXPECT_NE(e.find("photo.point_k - 1 = 3"), std::string::npos) << e;
+  p.set("photo.point_partners=0");  // the paper's max(k/2, 3)
+  EXPECT_EQ(message(p), "");
+}
+
 TEST(PhotoconsistCache, FileRoundTrip) {
   const fs::path d = temp_dir("cache");
   pc::FaceCache c;
