@@ -217,7 +217,9 @@ void File::create_group(const std::string& name) {
     if (next == std::string::npos) next = n.size();
     const std::string part = n.substr(0, next);
     if (H5Lexists(id_, part.c_str(), H5P_DEFAULT) <= 0) {
-      const hid_t g = H5Gcreate2(id_, part.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+      Id gcpl(H5Pcreate(H5P_GROUP_CREATE), H5Pclose);
+      H5Pset_obj_track_times(gcpl, false);  // no creation times: same inputs, same bytes
+      const hid_t g = H5Gcreate2(id_, part.c_str(), H5P_DEFAULT, gcpl, H5P_DEFAULT);
       if (g < 0) fail(target_.string(), ": cannot create group ", part);
       H5Gclose(g);
     }
@@ -240,6 +242,7 @@ void File::write(const std::string& name, const T* data, const Shape& shape) {
   }
   Id space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
   Id dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  H5Pset_obj_track_times(dcpl, false);  // no creation times: same inputs, same bytes
   if (total > 65536 && !dims.empty() && dims[0] > 0) {
     // chunk along the first axis, about 256 KiB a chunk
     std::vector<hsize_t> chunk = dims;
@@ -263,7 +266,9 @@ void File::write_strings(const std::string& name, const std::vector<std::string>
   H5Tset_cset(type, H5T_CSET_UTF8);
   hsize_t dim = v.size();
   Id space(H5Screate_simple(1, &dim, nullptr), H5Sclose);
-  Id ds(H5Dcreate2(id_, n.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose);
+  Id dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  H5Pset_obj_track_times(dcpl, false);
+  Id ds(H5Dcreate2(id_, n.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT), H5Dclose);
   if (ds < 0) fail(target_.string(), ": cannot create dataset ", n);
   std::vector<const char*> ptrs;
   for (const auto& s : v) ptrs.push_back(s.c_str());
