@@ -78,8 +78,8 @@ void check_threads(int threads) {
 // malloc asks for them (madvise) only when the tunable glibc.malloc.hugetlb=1 is set at
 // start-up, so a stage started without it sets it and executes itself again, same pid and
 // arguments. Page faults and TLB misses of fresh memory are most of what the 4 M-cell stages
-// spend outside their algorithms: the synthetic cup's pipeline takes 83 s wall instead of
-// 118 s, the outputs byte for byte the same (docs/architecture.md). A process that a tool
+// spend outside their algorithms: the synthetic cup's pipeline takes about 87 s wall instead
+// of 114 s, the outputs byte for byte the same (docs/architecture.md). A process that a tool
 // preloads a library into (valgrind, heaptrack) is left as it was started, as is one whose
 // GLIBC_TUNABLES already names the tunable; if the exec fails the stage runs as it is.
 void use_huge_pages(char** argv) {

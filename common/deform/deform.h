@@ -11,11 +11,8 @@
 #pragma once
 #include <array>
 #include <cstdint>
-#include <filesystem>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "common/deform/forces.h"
 #include "common/deform/options.h"
