@@ -117,9 +117,7 @@ TEST(ParReader, WriteReadRoundTripIsExact) {
   std::vector<Camera> cams;
   for (int i = 0; i < 5; ++i) {
     cams.push_back(random_camera(rng));
-    cams.back().name = "v";
-    cams.back().name += std::to_string(i);  // "v" + ... + ".png" trips a GCC 12 -Wrestrict false positive
-    cams.back().name += ".png";
+    cams.back().name = "v" + std::to_string(i) + ".png";
   }
   write_par(d / "x_par.txt", cams);
   const auto back = read_par(d / "x_par.txt");
