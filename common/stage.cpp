@@ -1,7 +1,6 @@
 #include "common/stage.h"
 
 #include <omp.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <csignal>
@@ -74,33 +73,9 @@ void check_threads(int threads) {
          "; unset it or give --threads");
 }
 
-// The stages' large arrays (cells, faces, graphs, images) on transparent huge pages: glibc's
-// malloc asks for them (madvise) only when the tunable glibc.malloc.hugetlb=1 is set at
-// start-up, so a stage started without it sets it and executes itself again, same pid and
-// arguments. Page faults and TLB misses of fresh memory are most of what the 4 M-cell stages
-// spend outside their algorithms: the synthetic cup's pipeline takes about 87 s wall instead
-// of 114 s, the outputs byte for byte the same (docs/architecture.md). A process that a tool
-// preloads a library into (valgrind, heaptrack) is left as it was started, as is one whose
-// GLIBC_TUNABLES already names the tunable; if the exec fails the stage runs as it is.
-void use_huge_pages(char** argv) {
-  const char* tunables = std::getenv("GLIBC_TUNABLES");
-  const std::string had = tunables ? tunables : "";
-  const char* preload = std::getenv("LD_PRELOAD");
-  const bool preloaded = preload && *preload;
-  if (had.find("glibc.malloc.hugetlb") != std::string::npos || preloaded) return;
-  const std::string want = (had.empty() ? "" : had + ":") + "glibc.malloc.hugetlb=1";
-  if (setenv("GLIBC_TUNABLES", want.c_str(), 1) != 0) return;
-  execv("/proc/self/exe", argv);
-  if (tunables)  // the exec failed: the environment as it was
-    setenv("GLIBC_TUNABLES", had.c_str(), 1);
-  else
-    unsetenv("GLIBC_TUNABLES");
-}
-
 }  // namespace
 
 int StageCli::run(int argc, char** argv, const std::function<void(StageContext&)>& body) {
-  use_huge_pages(argv);
   for (int a = 1; a < argc; ++a)
     if (std::string(argv[a]) == "--help-all") {
       try {

@@ -58,9 +58,8 @@ def main():
             if e["stage"] in ("photoconsist", "refine", "label", "cut", "silhouette-fix", "deform"):
                 expect(e.get("estimated_memory_mb", 0) > 0,
                        f"stages.jsonl: {e['stage']} ({e.get('args', '')[:60]}) records its memory estimate")
-        # a stage started without glibc's huge-page tunable sets it and runs itself again
-        # (common/stage.cpp, use_huge_pages); make passes the environment as it is
-        if "GLIBC_TUNABLES" not in os.environ and "LD_PRELOAD" not in os.environ:
+        # pipeline.mk exports glibc's huge-page tunable to the stages
+        if "GLIBC_TUNABLES" not in os.environ:
             for e in entries:
                 expect(e.get("huge_pages") is True,
                        f"stages.jsonl: {e['stage']} ({e.get('args', '')[:60]}) ran with malloc on huge pages")
