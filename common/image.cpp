@@ -1,17 +1,12 @@
 #include "common/image.h"
 
-#include <unistd.h>
-
 #include <cctype>
 #include <cstdio>
 #include <cstring>
-#include <mutex>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
+#include <png.h>
 #include <opencv2/imgproc.hpp>
-#include <sstream>
 
-#include "common/budget.h"
 #include "common/error.h"
 #include "common/fileio.h"
 
@@ -83,81 +78,8 @@ std::optional<ImageSize> pnm_size(std::ifstream& in) {
   return ImageSize{v[0], v[1]};
 }
 
-// While one is alive (in any thread), what the image libraries print on stderr (libpng's
-// and libjpeg's own "error" and "warning" lines) goes to a scratch file that is dropped:
-// the readers report a failure themselves, in one line naming the file. Guards of several
-// threads overlap: the first redirects stderr, the last restores it.
-class DecoderMessagesDropped {
- public:
-  DecoderMessagesDropped() {
-    std::lock_guard<std::mutex> lock(mu());
-    if (count()++ > 0) return;
-    std::fflush(stderr);
-    saved() = ::dup(2);
-    FILE* scratch = std::tmpfile();
-    if (saved() >= 0 && scratch) {
-      ::dup2(::fileno(scratch), 2);
-      std::fclose(scratch);  // fd 2 keeps the (unlinked) file open
-    } else if (scratch) {
-      std::fclose(scratch);
-    }
-  }
-  ~DecoderMessagesDropped() {
-    std::lock_guard<std::mutex> lock(mu());
-    if (--count() > 0) return;
-    std::fflush(stderr);
-    if (saved() >= 0) {
-      ::dup2(saved(), 2);
-      ::close(saved());
-      saved() = -1;
-    }
-  }
-  DecoderMessagesDropped(const DecoderMessagesDropped&) = delete;
-  DecoderMessagesDropped& operator=(const DecoderMessagesDropped&) = delete;
-
- private:
-  static std::mutex& mu() {
-    static std::mutex m;
-    return m;
-  }
-  static int& count() {
-    static int c = 0;
-    return c;
-  }
-  static int& saved() {
-    static int fd = -1;
-    return fd;
-  }
-};
-
-// Refuses an image whose header declares more pixels than the stage's budget holds
-// (decoding needs about 4 bytes a pixel, the RGB copy 3 more).
-void check_image_header(const fs::path& file) {
-  if (const auto s = read_image_size(file)) {
-    std::ostringstream what;
-    what << file.string() << ": the image header (" << s->width << " x " << s->height << " pixels)";
-    check_declared_bytes(7.0 * static_cast<double>(s->width) * static_cast<double>(s->height), what.str());
-  }
-}
-
-// cv::imread with OpenCV's own refusals (e.g. more than 2^30 pixels) as an Error naming the file.
-cv::Mat read_image(const fs::path& file, const char* what) {
-  if (!fs::exists(file)) fail(file.string(), ": ", what, " file is missing");
-  check_regular_file(file);
-  check_image_header(file);
-  note_input(file);
-  cv::Mat m;
-  try {
-    DecoderMessagesDropped quiet;
-    m = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    fail(file.string(), ": cannot decode ", what, " (", e.err, ")");
-  }
-  if (m.empty()) fail(file.string(), ": cannot decode ", what, " (corrupt or unsupported format)");
-  return m;
-}
-
 }  // namespace
+
 
 std::optional<ImageSize> read_image_size(const fs::path& file) {
   std::error_code ec;
@@ -181,27 +103,6 @@ std::optional<ImageSize> read_image_size(const fs::path& file) {
   return std::nullopt;
 }
 
-cv::Mat load_rgb(const fs::path& file) {
-  cv::Mat m = read_image(file, "image");
-  if (m.depth() != CV_8U) fail(file.string(), ": image must be 8-bit per channel");
-  cv::Mat rgb;
-  if (m.channels() == 1) cv::cvtColor(m, rgb, cv::COLOR_GRAY2RGB);
-  else if (m.channels() == 3) cv::cvtColor(m, rgb, cv::COLOR_BGR2RGB);
-  else if (m.channels() == 4) cv::cvtColor(m, rgb, cv::COLOR_BGRA2RGB);
-  else fail(file.string(), ": unsupported channel count ", m.channels());
-  return rgb;
-}
-
-cv::Mat load_mask(const fs::path& file) {
-  cv::Mat m = read_image(file, "mask");
-  std::vector<cv::Mat> ch;
-  cv::split(m, ch);
-  cv::Mat first;
-  ch[0].convertTo(first, CV_32F, m.depth() == CV_16U ? 1.0 / 257.0 : 1.0);
-  cv::Mat out = first > 127.0f;
-  return out;
-}
-
 cv::Mat rgb_to_grey(const cv::Mat& rgb) {
   require(rgb.type() == CV_8UC3, "rgb_to_grey: expected an 8-bit RGB image");
   cv::Mat g(rgb.rows, rgb.cols, CV_32F);
@@ -214,13 +115,25 @@ cv::Mat rgb_to_grey(const cv::Mat& rgb) {
   return g;
 }
 
-void write_png_rgb(const fs::path& file, const cv::Mat& rgb) {
-  cv::Mat out;
-  if (rgb.channels() == 3) cv::cvtColor(rgb, out, cv::COLOR_RGB2BGR);
-  else out = rgb;
-  std::vector<uchar> buf;
-  if (!cv::imencode(".png", out, buf)) fail(file.string(), ": PNG encoding failed");
-  write_text_atomic(file, std::string(buf.begin(), buf.end()));
+std::string encode_png(const cv::Mat& img) {
+  require(img.depth() == CV_8U && (img.channels() == 1 || img.channels() == 3 || img.channels() == 4) && !img.empty(),
+          "encode_png: expected a non-empty 8-bit grey, RGB or RGBA image");
+  png_image pi{};
+  pi.version = PNG_IMAGE_VERSION;
+  pi.width = static_cast<png_uint_32>(img.cols);
+  pi.height = static_cast<png_uint_32>(img.rows);
+  pi.format = img.channels() == 1 ? PNG_FORMAT_GRAY : img.channels() == 3 ? PNG_FORMAT_RGB : PNG_FORMAT_RGBA;
+  const auto stride = static_cast<png_int_32>(img.step[0]);
+  png_alloc_size_t size = 0;
+  if (!png_image_write_get_memory_size(pi, size, 0, img.data, stride, nullptr))
+    fail("encode_png: ", pi.message);
+  std::string out(size, '\0');
+  if (!png_image_write_to_memory(&pi, out.data(), &size, 0, img.data, stride, nullptr))
+    fail("encode_png: ", pi.message);
+  out.resize(size);
+  return out;
 }
+
+void write_png_rgb(const fs::path& file, const cv::Mat& rgb) { write_text_atomic(file, encode_png(rgb)); }
 
 }  // namespace tetmvs

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <opencv2/core.hpp>
 
 namespace tetmvs {
@@ -15,7 +16,8 @@ struct ImageSize {
 };
 std::optional<ImageSize> read_image_size(const std::filesystem::path& file);
 
-// Loads an 8-bit image as RGB (CV_8UC3). Throws Error naming the file when it is
+// Loads an 8-bit image as RGB (CV_8UC3) (common/image_read.cpp: OpenCV's decoders, any
+// format they read). Throws Error naming the file when it is
 // missing, unreadable or not 8-bit, or when its header declares more pixels than the
 // stage's memory budget holds (checked before decoding; common/budget.h).
 cv::Mat load_rgb(const std::filesystem::path& file);
@@ -23,7 +25,10 @@ cv::Mat load_rgb(const std::filesystem::path& file);
 cv::Mat load_mask(const std::filesystem::path& file);
 // RGB (CV_8UC3) -> float grey in [0,1] (CV_32F).
 cv::Mat rgb_to_grey(const cv::Mat& rgb);
-// Writes a PNG atomically (RGB input is converted to OpenCV's BGR).
+// The PNG file of an 8-bit grey, RGB or RGBA image (libpng; channels in that order, not
+// OpenCV's BGR).
+std::string encode_png(const cv::Mat& img);
+// Writes encode_png(rgb) atomically.
 void write_png_rgb(const std::filesystem::path& file, const cv::Mat& rgb);
 
 // Bilinear sample of a CV_32F image at (u, v). Returns false (and leaves out

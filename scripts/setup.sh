@@ -4,7 +4,7 @@
 set -euo pipefail
 PKGS=(
   build-essential cmake ninja-build pkg-config make
-  libeigen3-dev libopencv-dev libhdf5-dev libboost-graph-dev nlohmann-json3-dev libssl-dev
+  libeigen3-dev libopencv-dev libpng-dev libhdf5-dev libboost-graph-dev nlohmann-json3-dev libssl-dev
   libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-h5py python3-numpy python3-matplotlib
 )

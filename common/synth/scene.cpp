@@ -7,7 +7,6 @@
 #include <regex>
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "common/error.h"
 #include "common/fileio.h"
@@ -282,9 +281,7 @@ std::vector<Camera> write_dataset(const std::filesystem::path& dir, const TriMes
     try {
       const RenderedView rv = render_view(gt, cams[i], tex, shading, i);
       write_png_rgb(dir / cams[i].name, rv.rgb);
-      std::vector<unsigned char> png;
-      require(cv::imencode(".png", rv.mask, png), "cannot encode the silhouette of ", cams[i].name);
-      write_text_atomic(dir / "silhouettes" / cams[i].name, std::string(png.begin(), png.end()));
+      write_text_atomic(dir / "silhouettes" / cams[i].name, encode_png(rv.mask));
     } catch (const std::exception& e) {
       errors[i] = e.what();
     }
