@@ -66,10 +66,10 @@ double median(std::vector<double> x) {
   return x[k];
 }
 
-std::vector<ViewRaster> rasterize_all(const TriMesh& tm, const Scene& scene) {
+std::vector<ViewRaster> rasterize_all(const TriMesh& tm, const Scene& scene, int sd_reach) {
   std::vector<ViewRaster> r(scene.size());
 #pragma omp parallel for schedule(dynamic, 1)
-  for (int i = 0; i < scene.size(); ++i) r[i] = rasterize_view(tm, scene.cams[i], scene.sil[i]);
+  for (int i = 0; i < scene.size(); ++i) r[i] = rasterize_view(tm, scene.cams[i], scene.sil[i], sd_reach);
   return r;
 }
 
@@ -345,7 +345,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     TriMesh tm;
     tm.V = M.V;
     tm.F = M.F;
-    const std::vector<ViewRaster> rasters = rasterize_all(tm, scene);
+    const std::vector<ViewRaster> rasters = rasterize_all(tm, scene, opt.sd_reach_px());
     st.silhouette_iou = mean_iou(rasters, scene);
     if (it == 0) res.start_iou = st.silhouette_iou;
     pt.lap(kPartRaster);
@@ -369,7 +369,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
       std::vector<const Raster*> own;
       for (int i = 0; i < nc; ++i) own.push_back(l > 0 ? &reduced[i] : &rasters[i].raster);
       const PhotometricGradient pg = photometric_gradient(M.V, M.F, N, photo_images, partners, opt.photo_window, own);
-      fphoto = photometric_steps(pg, topo, l, M.fp);
+      fphoto = photometric_steps(pg, topo, l, opt.mesh_level(it), M.fp);
       st.mean_ncc = pg.mean_ncc;
       st.photo_pixels = pg.pixels;
       double sum_px = 0;
@@ -444,8 +444,10 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     // Remesh.
     M.fp = vertex_footprints(M.V, scene.cams, fallback_fp);
     pt.lap(kPartFootprints);
-    st.splits = split_long_edges(M, opt.max_edge_px);
-    st.collapses = collapse_short_edges(M, opt.min_edge_px, opt.needle_ratio, opt.max_edge_px);
+    // edges in pixels of the next iteration's images
+    const double ms = static_cast<double>(1 << opt.mesh_level(it + 1));
+    st.splits = split_long_edges(M, ms * opt.max_edge_px);
+    st.collapses = collapse_short_edges(M, ms * opt.min_edge_px, opt.needle_ratio, ms * opt.max_edge_px);
     st.flips = flip_edges(M, opt.flip_dihedral_deg);
     compact(M);
     reorder_for_locality(M);
@@ -474,7 +476,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
   res.mesh.V = M.V;
   res.mesh.F = M.F;
   res.final_intersections = static_cast<std::int64_t>(current.size());
-  const auto rasters = rasterize_all(res.mesh, scene);
+  const auto rasters = rasterize_all(res.mesh, scene, opt.sd_reach_px());
   res.final_iou = mean_iou(rasters, scene);
   compute_vertex_normals(res.mesh);
   sample_vertex_colours(res.mesh, scene, opt.visibility_tol_px, &rasters);
@@ -487,7 +489,7 @@ void sample_vertex_colours(TriMesh& m, const Scene& scene, double tol_px, const 
   const int nv = static_cast<int>(m.nv()), nc = scene.size();
   require(!rasters || static_cast<int>(rasters->size()) == nc, "sample_vertex_colours: ", rasters ? rasters->size() : 0,
           " rasters for ", nc, " views");
-  const auto vis = vertex_visibility(m.V, scene.cams, rasters ? *rasters : rasterize_all(m, scene), tol_px);
+  const auto vis = vertex_visibility(m.V, scene.cams, rasters ? *rasters : rasterize_all(m, scene, 1), tol_px);
   m.C.assign(nv, {128, 128, 128});
   if (static_cast<int>(scene.rgb.size()) != nc) return;
 #pragma omp parallel for schedule(static)

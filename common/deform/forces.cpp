@@ -5,6 +5,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "common/error.h"
 #include "common/image.h"
 #include "common/silhouette/border.h"
 #include "common/trimesh/raster.h"
@@ -28,14 +29,68 @@ cv::Mat signed_distance(const cv::Mat& mask) {
   return sd;
 }
 
-ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat& sil) {
+cv::Mat signed_distance_near(const cv::Mat& obj, int reach) {
+  require(obj.type() == CV_8U && reach >= 1, "signed_distance_near: a CV_8U mask and a reach >= 1");
+  // stamping costs the outline's length times the disc: beyond a reach of 16 px the
+  // whole-image transform is cheaper (distances beyond the reach set as stamping leaves them)
+  const float far = static_cast<float>(reach) + 0.5f, last = static_cast<float>(reach) - 0.5f;
+  if (reach > 16) {
+    cv::Mat sd = signed_distance(obj != 0);
+    sd.setTo(far, sd > last);
+    sd.setTo(-far, sd < -last);
+    return sd;
+  }
+  const int W = obj.cols, H = obj.rows;
+  // squared distance of each pixel to the nearest pixel of the other side, stamped from the
+  // pixels with a 4-neighbour of the other side (the nearest pixel of the other side always
+  // has one: a step towards the pixel along its longer axis is closer)
+  struct Offset {
+    int dx, dy, dd;  // dd: squared length
+  };
+  std::vector<Offset> disc;
+  for (int dy = -reach; dy <= reach; ++dy)
+    for (int dx = -reach; dx <= reach; ++dx)
+      if (dx * dx + dy * dy <= reach * reach && (dx || dy)) disc.push_back({dx, dy, dx * dx + dy * dy});
+  std::vector<int> d2(static_cast<size_t>(W) * H, std::numeric_limits<int>::max());
+  for (int y = 0; y < H; ++y) {
+    const std::uint8_t* r = obj.ptr<std::uint8_t>(y);
+    const std::uint8_t* up = y > 0 ? obj.ptr<std::uint8_t>(y - 1) : nullptr;
+    const std::uint8_t* dn = y + 1 < H ? obj.ptr<std::uint8_t>(y + 1) : nullptr;
+    for (int x = 0; x < W; ++x) {
+      const bool in = r[x] != 0;
+      if (!((x > 0 && (r[x - 1] != 0) != in) || (x + 1 < W && (r[x + 1] != 0) != in) || (up && (up[x] != 0) != in) ||
+            (dn && (dn[x] != 0) != in)))
+        continue;
+      const bool whole = x >= reach && x + reach < W && y >= reach && y + reach < H;
+      const int p = y * W + x;
+      for (const Offset& o : disc) {
+        if (!whole && (x + o.dx < 0 || x + o.dx >= W || y + o.dy < 0 || y + o.dy >= H)) continue;
+        const int q = p + o.dy * W + o.dx;
+        if ((obj.data[q] != 0) != in && o.dd < d2[q]) d2[q] = o.dd;
+      }
+    }
+  }
+  cv::Mat sd(H, W, CV_32F);
+  for (int y = 0; y < H; ++y) {
+    const std::uint8_t* r = obj.ptr<std::uint8_t>(y);
+    float* o = sd.ptr<float>(y);
+    for (int x = 0; x < W; ++x) {
+      const int dd = d2[static_cast<size_t>(y) * W + x];
+      const float d = dd == std::numeric_limits<int>::max() ? far : std::sqrt(static_cast<float>(dd)) - 0.5f;
+      o[x] = r[x] ? -d : d;
+    }
+  }
+  return sd;
+}
+
+ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat& sil, int sd_reach) {
   ViewRaster r;
   RasterOptions ro;
   ro.cull_back = true;  // closed outward mesh: back faces are always hidden behind front ones
   r.raster = rasterize(mesh, cam, ro);
   r.depth = r.raster.depth;
   const cv::Mat covered = r.raster.tri >= 0;
-  r.sd = signed_distance(covered);
+  r.sd = signed_distance_near(covered, sd_reach);
   r.covered = cv::countNonZero(covered);
   if (!sil.empty()) {
     const cv::Mat truth = sil > 127;

@@ -24,15 +24,21 @@ namespace tetmvs::deform {
 // pixel centre. CV_32F.
 cv::Mat signed_distance(const cv::Mat& mask);
 
+// signed_distance of a CV_8U mask (non-zero = object) where the distance is at most `reach`
+// pixels, +-(reach + 0.5) beyond (the side's sign); up to a reach of 16 px the cost is the
+// outline's length times the reach's disc, not the image's size.
+cv::Mat signed_distance_near(const cv::Mat& obj, int reach);
+
 // Per-view state of one iteration: the current mesh rasterised into the view.
 struct ViewRaster {
   Raster raster;   // back faces culled (depth and triangle ids)
   cv::Mat depth;   // CV_32F camera z, +inf where empty (raster.depth)
-  cv::Mat sd;      // CV_32F signed distance (px) to the boundary of the mesh's own silhouette (signed_distance)
+  cv::Mat sd;      // CV_32F signed distance (px) to the boundary of the mesh's own silhouette (signed_distance_near)
   std::int64_t covered = 0, agree = 0, either = 0;  // silhouette IoU counts (views with silhouettes)
 };
-// sil: the view's silhouette (empty: no IoU counts).
-ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat& sil);
+// sil: the view's silhouette (empty: no IoU counts). sd_reach: the distance within which sd is
+// exact (sd_reach_px of the options the silhouette force uses).
+ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat& sil, int sd_reach = 8);
 
 // Area-weighted unit vertex normals.
 std::vector<Eigen::Vector3d> vertex_normals(const std::vector<Eigen::Vector3d>& V,

@@ -27,4 +27,9 @@ int Options::photo_level(int it) const {
   return std::max(0, photo_coarsest_level - (it - photo_start) / photo_level_iterations);
 }
 
+int Options::mesh_level(int it) const {
+  if (it >= iterations) return 0;
+  return it < photo_start ? photo_coarsest_level : photo_level(it);
+}
+
 }  // namespace tetmvs::deform

@@ -3,6 +3,7 @@
 // docs/deform.md.
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "common/param_binding.h"
@@ -36,7 +37,7 @@ struct Options {
   int photo_level_iterations = 3; // ... spending this many iterations on each reduced level
   // step control and remeshing
   double max_move_px = 1.0;       // largest move of a vertex per iteration (pixels)
-  double max_edge_px = 3.0;       // split edges longer than this in their finest view
+  double max_edge_px = 3.0;       // split edges longer than this in their finest view (pixels of mesh_level)
   double min_edge_px = 1.35;      // collapse edges shorter than this (below max_edge_px / 2)
   double needle_ratio = 0.2;      // collapse the shortest edge of triangles with shortest/longest below this
   double flip_dihedral_deg = 30;  // Delaunay flips only between triangles within this angle of coplanar
@@ -50,6 +51,13 @@ struct Options {
   // force yet): photo_level_iterations iterations on each of the levels photo_coarsest_level
   // .. 1, then the full images (0).
   int photo_level(int it) const;
+  // The image-pyramid level in whose pixels max_edge_px and min_edge_px are measured at
+  // iteration `it`: the mesh follows the images in use (photo_level), at the coarsest level
+  // before the photometric force starts and at the full images after the last iteration.
+  int mesh_level(int it) const;
+  // The distance (pixels) from the mesh's own silhouette within which the silhouette force
+  // reads it: the rim band inside, a correction's reach outside.
+  int sd_reach_px() const { return static_cast<int>(std::ceil(sil_band_px + sil_max_px)) + 1; }
 
   static constexpr auto params() {
     return std::to_array<ParamField<Options>>({

@@ -33,8 +33,8 @@ constexpr double kRobust = 0.1;
 constexpr double kMinCos = 0.2;
 // A point is seen in view j when it lies at most this many pixel footprints behind j's z-buffer.
 constexpr double kDepthTolPx = 1.5;
-// photometric_steps: damping (share of the median curvature), rounds of 1-ring averaging per
-// pixel of the level, largest step (pixels of the level).
+// photometric_steps: damping (share of the median curvature), rounds of 1-ring averaging (on a
+// mesh whose edges are measured in the level's pixels), largest step (pixels of the level).
 constexpr double kDamping = 0.1;
 constexpr int kRingRounds = 2;
 constexpr double kMaxStepPx = 2.0;
@@ -88,33 +88,55 @@ cv::Mat clean_pixels(const Raster& r, double focal) {
   return bad == 0;
 }
 
-// In-place sums over w x w windows (w odd) of a rows x cols row-major array, zero outside.
-void box_sum(std::vector<double>& a, int cols, int rows, int w, std::vector<double>& tmp) {
-  const int h = w / 2;
-  tmp.assign(a.size(), 0.0);
-  for (int y = 0; y < rows; ++y) {
-    const double* in = a.data() + static_cast<size_t>(y) * cols;
-    double* out = tmp.data() + static_cast<size_t>(y) * cols;
-    double s = 0;
-    for (int x = 0; x < std::min(h, cols); ++x) s += in[x];
-    for (int x = 0; x < cols; ++x) {
-      if (x + h < cols) s += in[x + h];
-      out[x] = s;
-      if (x - h >= 0) s -= in[x - h];
+// Sums over w x w windows (w odd, zero outside) of K interleaved channels of a rows x cols
+// image, streamed a row at a time: row(y, out) writes row y's K x cols values, sink(y, sums)
+// receives row y's window sums. Running sums along the row, then down the columns, with
+// only the window's rows of row sums held (cache-resident where whole-image arrays are not).
+template <int K>
+class BoxSums {
+ public:
+  template <class Row, class Sink>
+  void run(int cols, int rows, int w, Row&& row, Sink&& sink) {
+    const int h = w / 2;
+    const size_t n = static_cast<size_t>(cols) * K;
+    in_.resize(n);
+    ring_.resize(n * static_cast<size_t>(w));
+    col_.assign(n, 0.0);
+    const auto row_sums = [&](int y) {  // window sums along row y into its ring slot
+      row(y, in_.data());
+      double* out = ring_.data() + n * static_cast<size_t>(y % w);
+      double s[K] = {};
+      for (int x = 0; x < std::min(h, cols); ++x)
+        for (int c = 0; c < K; ++c) s[c] += in_[static_cast<size_t>(x) * K + c];
+      for (int x = 0; x < cols; ++x) {
+        if (x + h < cols)
+          for (int c = 0; c < K; ++c) s[c] += in_[static_cast<size_t>(x + h) * K + c];
+        for (int c = 0; c < K; ++c) out[static_cast<size_t>(x) * K + c] = s[c];
+        if (x - h >= 0)
+          for (int c = 0; c < K; ++c) s[c] -= in_[static_cast<size_t>(x - h) * K + c];
+      }
+      return out;
+    };
+    for (int y = 0; y < std::min(h, rows); ++y) {
+      const double* r = row_sums(y);
+      for (size_t k = 0; k < n; ++k) col_[k] += r[k];
+    }
+    for (int y = 0; y < rows; ++y) {
+      if (y + h < rows) {
+        const double* r = row_sums(y + h);
+        for (size_t k = 0; k < n; ++k) col_[k] += r[k];
+      }
+      sink(y, static_cast<const double*>(col_.data()));
+      if (y - h >= 0) {
+        const double* r = ring_.data() + n * static_cast<size_t>((y - h) % w);
+        for (size_t k = 0; k < n; ++k) col_[k] -= r[k];
+      }
     }
   }
-  std::vector<double> col(static_cast<size_t>(cols), 0.0);
-  for (int y = 0; y < std::min(h, rows); ++y)
-    for (int x = 0; x < cols; ++x) col[x] += tmp[static_cast<size_t>(y) * cols + x];
-  for (int y = 0; y < rows; ++y) {
-    if (y + h < rows)
-      for (int x = 0; x < cols; ++x) col[x] += tmp[static_cast<size_t>(y + h) * cols + x];
-    double* out = a.data() + static_cast<size_t>(y) * cols;
-    for (int x = 0; x < cols; ++x) out[x] = col[x];
-    if (y - h >= 0)
-      for (int x = 0; x < cols; ++x) col[x] -= tmp[static_cast<size_t>(y - h) * cols + x];
-  }
-}
+
+ private:
+  std::vector<double> in_, ring_, col_;
+};
 
 struct Slot {
   std::vector<double> grad, hess;
@@ -284,7 +306,8 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
     Slot& acc = slots[s];
     acc.grad.assign(nv, 0.0);
     acc.hess.assign(nv, 0.0);
-    std::vector<double> sm, si, sj, sii, sjj, sij, sg, tmp, cA, cB, cC, cD, cE, cF, cG;
+    BoxSums<7> stats, coefs;
+    std::vector<double> coef;
     std::vector<float> J, G;
     std::vector<double> pg, ph;
     std::vector<int> pn;
@@ -324,55 +347,72 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
           G[k] = static_cast<float>(bilinear(gx[j], u, v) * dudt + bilinear(gy[j], u, v) * dvdt);
           valid[k] = 1;
         }
-        // window statistics of the valid pixels
-        for (auto* a : {&sm, &si, &sj, &sii, &sjj, &sij, &sg}) a->assign(np, 0.0);
-        for (size_t k = 0; k < np; ++k)
-          if (valid[k]) {
-            const double a = P.I[k], b = J[k];
-            sm[k] = 1;
-            si[k] = a;
-            sj[k] = b;
-            sii[k] = a * a;
-            sjj[k] = b * b;
-            sij[k] = a * b;
-            sg[k] = G[k];
-          }
-        for (auto* a : {&sm, &si, &sj, &sii, &sjj, &sij, &sg}) box_sum(*a, P.cols, P.rows, window, tmp);
-        // per window: NCC and the coefficients of its derivative with respect to I_ij,
-        // dNCC/dI_ij(q) = A I(q) - B - C I_ij(q) + D, and of the Gauss-Newton curvature of
-        // the depths, sum over the window of (g(q) - mean g)^2 E = g(q)^2 E - 2 g(q) Fg + Gg
-        // (centred: a window-wide change of I_ij is not seen by the NCC)
-        for (auto* a : {&cA, &cB, &cC, &cD, &cE, &cF, &cG}) a->assign(np, 0.0);
-        for (size_t k = 0; k < np; ++k) {
-          const double n = sm[k];
-          if (n < min_n) continue;
-          const double mi = si[k] / n, mj = sj[k] / n;
-          const double vi2 = std::max(0.0, sii[k] / n - mi * mi) + noise2;
-          const double vj2 = std::max(0.0, sjj[k] / n - mj * mj) + noise2;
-          const double sij2 = std::sqrt(vi2 * vj2);
-          const double ncc = (sij[k] / n - mi * mj) / sij2;
-          acc.ncc_sum += ncc;
-          ++acc.windows;
-          const double w = kRobust * kRobust / ((1 - ncc + kRobust) * (1 - ncc + kRobust));
-          cA[k] = w / (n * sij2);
-          cB[k] = mi * cA[k];
-          cC[k] = w * ncc / (n * vj2);
-          cD[k] = mj * cC[k];
-          cE[k] = w / (n * vj2);
-          const double mg = sg[k] / n;
-          cF[k] = mg * cE[k];
-          cG[k] = mg * cF[k];
-        }
-        for (auto* a : {&cA, &cB, &cC, &cD, &cE, &cF, &cG}) box_sum(*a, P.cols, P.rows, window, tmp);
-        // per pixel: dE/dt along its ray
-        for (size_t k = 0; k < np; ++k) {
-          if (!valid[k] || !(cE[k] > 0)) continue;
-          const double dEdJ = -(P.I[k] * cA[k] - cB[k] - J[k] * cC[k] + cD[k]);
-          const double g = G[k];
-          pg[k] += dEdJ * g;
-          ph[k] += std::max(0.0, g * g * cE[k] - 2 * g * cF[k] + cG[k]);
-          ++pn[k];
-        }
+        // window statistics of the valid pixels (count, sums of I, I_ij, their squares and
+        // product, and of g), then per window the NCC and the coefficients of its derivative
+        // with respect to I_ij, dNCC/dI_ij(q) = A I(q) - B - C I_ij(q) + D, and of the
+        // Gauss-Newton curvature of the depths, sum over the window of (g(q) - mean g)^2 E =
+        // g(q)^2 E - 2 g(q) Fg + Gg (centred: a window-wide change of I_ij is not seen by the NCC)
+        coef.assign(np * 7, 0.0);
+        stats.run(
+            P.cols, P.rows, window,
+            [&](int y, double* out) {
+              for (int x = 0; x < P.cols; ++x, out += 7) {
+                const size_t k = static_cast<size_t>(y) * P.cols + x;
+                if (!valid[k]) {
+                  std::fill(out, out + 7, 0.0);
+                  continue;
+                }
+                const double a = P.I[k], b = J[k];
+                out[0] = 1;
+                out[1] = a;
+                out[2] = b;
+                out[3] = a * a;
+                out[4] = b * b;
+                out[5] = a * b;
+                out[6] = G[k];
+              }
+            },
+            [&](int y, const double* sum) {
+              for (int x = 0; x < P.cols; ++x, sum += 7) {
+                const double n = sum[0];
+                if (n < min_n) continue;
+                double* c = coef.data() + (static_cast<size_t>(y) * P.cols + x) * 7;
+                const double mi = sum[1] / n, mj = sum[2] / n;
+                const double vi2 = std::max(0.0, sum[3] / n - mi * mi) + noise2;
+                const double vj2 = std::max(0.0, sum[4] / n - mj * mj) + noise2;
+                const double sij2 = std::sqrt(vi2 * vj2);
+                const double ncc = (sum[5] / n - mi * mj) / sij2;
+                acc.ncc_sum += ncc;
+                ++acc.windows;
+                const double w = kRobust * kRobust / ((1 - ncc + kRobust) * (1 - ncc + kRobust));
+                c[0] = w / (n * sij2);
+                c[1] = mi * c[0];
+                c[2] = w * ncc / (n * vj2);
+                c[3] = mj * c[2];
+                c[4] = w / (n * vj2);
+                const double mg = sum[6] / n;
+                c[5] = mg * c[4];
+                c[6] = mg * c[5];
+              }
+            });
+        // per pixel: dE/dt along its ray, from the coefficients summed over the windows
+        // that hold it
+        coefs.run(
+            P.cols, P.rows, window,
+            [&](int y, double* out) {
+              std::copy_n(coef.data() + static_cast<size_t>(y) * P.cols * 7, static_cast<size_t>(P.cols) * 7, out);
+            },
+            [&](int y, const double* c) {
+              for (int x = 0; x < P.cols; ++x, c += 7) {
+                const size_t k = static_cast<size_t>(y) * P.cols + x;
+                if (!valid[k] || !(c[4] > 0)) continue;
+                const double dEdJ = -(P.I[k] * c[0] - c[1] - J[k] * c[2] + c[3]);
+                const double g = G[k];
+                pg[k] += dEdJ * g;
+                ph[k] += std::max(0.0, g * g * c[4] - 2 * g * c[5] + c[6]);
+                ++pn[k];
+              }
+            });
       }
       // then to the vertices of each pixel's face
       for (size_t k = 0; k < np; ++k) {
@@ -418,12 +458,12 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
 }
 
 std::vector<double> photometric_steps(const PhotometricGradient& pg, const Topology& topo, int level,
-                                      const std::vector<double>& fp) {
+                                      int mesh_level, const std::vector<double>& fp) {
   const int nv = static_cast<int>(pg.grad.size());
   require(topo.num_vertices == nv && static_cast<int>(fp.size()) == nv,
           "photometric_steps: topology, footprints and gradient disagree");
   std::vector<double> g = pg.grad, h = pg.hess, g2(nv), h2(nv);
-  const int rounds = kRingRounds << level;
+  const int rounds = kRingRounds << std::max(0, level - mesh_level);
   for (int r = 0; r < rounds; ++r) {
 #pragma omp parallel for schedule(static)
     for (int v = 0; v < nv; ++v) {

@@ -63,10 +63,11 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
                                          const std::vector<const Raster*>& rasters = {});
 
 // Per vertex, the step along its normal (world units) toward the minimum of the energy:
-// g and h averaged over 2 x 2^level 1-rings (about a pixel of the level's images on a mesh
-// of ~3 px edges), step = -g / (h + 0.1 median(h)), clamped to 2 pixels of the level's
-// images (fp: each vertex's full-resolution pixel footprint). 0 where no pixel sees it.
-std::vector<double> photometric_steps(const PhotometricGradient& g, const Topology& topo, int level,
+// g and h averaged over 2 x 2^(level - mesh_level) 1-rings (about a pixel of the level's
+// images on a mesh of ~3 px edges measured at pyramid level mesh_level), step =
+// -g / (h + 0.1 median(h)), clamped to 2 pixels of the level's images (fp: each vertex's
+// full-resolution pixel footprint). 0 where no pixel sees it.
+std::vector<double> photometric_steps(const PhotometricGradient& g, const Topology& topo, int level, int mesh_level,
                                       const std::vector<double>& fp);
 
 // Partners of each view: the views whose direction from `centre` lies min_deg..max_deg

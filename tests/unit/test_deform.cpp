@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <opencv2/imgproc.hpp>
 
 #include "common/deform/forces.h"
 #include "common/deform/intersect.h"
@@ -257,6 +258,34 @@ TEST(DeformSilhouette, SignedDistanceIsZeroOnTheBoundary) {
   EXPECT_NEAR(sd.at<float>(20, 2), 7.5f, 0.05);
 }
 
+TEST(DeformSilhouette, SignedDistanceNearIsExactWithinItsReach) {
+  // a disc, a ring with a hole and a blob cut by the image border
+  cv::Mat m = cv::Mat::zeros(60, 80, CV_8U);
+  cv::circle(m, cv::Point(20, 20), 12, cv::Scalar(255), -1);
+  cv::circle(m, cv::Point(55, 35), 15, cv::Scalar(255), -1);
+  cv::circle(m, cv::Point(55, 35), 5, cv::Scalar(0), -1);
+  cv::circle(m, cv::Point(2, 58), 9, cv::Scalar(255), -1);
+  const cv::Mat exact = signed_distance(m);
+  for (int reach : {1, 3, 6, 20}) {  // 20: the whole-image transform, clamped
+    const cv::Mat near = signed_distance_near(m, reach);
+    int within = 0;
+    for (int y = 0; y < m.rows; ++y)
+      for (int x = 0; x < m.cols; ++x) {
+        const float e = exact.at<float>(y, x), n = near.at<float>(y, x);
+        if (std::abs(e) + 0.5f <= reach + 1e-4f) {
+          EXPECT_NEAR(n, e, 1e-4) << reach << " " << x << " " << y;
+          ++within;
+        } else {
+          EXPECT_EQ(n, std::copysign(reach + 0.5f, e)) << reach << " " << x << " " << y;
+        }
+      }
+    EXPECT_GT(within, 100);
+  }
+  // one side only: everything beyond reach
+  const cv::Mat all = signed_distance_near(cv::Mat(10, 10, CV_8U, cv::Scalar(255)), 2);
+  EXPECT_EQ(cv::countNonZero(all != -2.5f), 0);
+}
+
 TEST(DeformSmooth, BilaplacianDoesNotShrinkASphereButUmbrellaDoes) {
   const TriMesh s = synth::make_sphere(0.1);
   const Topology topo = build_topology(s.F, (int)s.nv());
@@ -307,17 +336,33 @@ TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   EXPECT_NE(rejected([](Options& b) { b.sil_tolerance_px = -1; }).find("sil_tolerance_px"), std::string::npos);
 }
 
-TEST(DeformOptions, PhotometricForceRunsCoarseToFine) {
+// 14 iterations: 2 without the photometric force, 3 on each of the levels 3, 2, 1, then 3
+// on the full images
+static Options schedule_options() {
   Options o;
   o.iterations = 14;
   o.photo_start = 2;
   o.photo_coarsest_level = 3;
   o.photo_level_iterations = 3;
+  return o;
+}
+
+TEST(DeformOptions, PhotometricForceRunsCoarseToFine) {
+  Options o = schedule_options();
   std::vector<int> levels;
   for (int it = 0; it < o.iterations; ++it) levels.push_back(o.photo_level(it));
   EXPECT_EQ(levels, (std::vector<int>{-1, -1, 3, 3, 3, 2, 2, 2, 1, 1, 1, 0, 0, 0}));
   o.photo_coarsest_level = 0;
   for (int it = 2; it < o.iterations; ++it) EXPECT_EQ(o.photo_level(it), 0);
+}
+
+TEST(DeformOptions, TheMeshFollowsTheImagesInUse) {
+  // edge lengths in pixels of the photometric level's images: the coarsest before the force
+  // starts, the full images after the last iteration (the remesh that ends it)
+  const Options o = schedule_options();
+  std::vector<int> levels;
+  for (int it = 0; it <= o.iterations; ++it) levels.push_back(o.mesh_level(it));
+  EXPECT_EQ(levels, (std::vector<int>{3, 3, 3, 3, 3, 2, 2, 2, 1, 1, 1, 0, 0, 0, 0}));
 }
 
 TEST(DeformRemesh, CollapseFoldsRemovesAFoldOverInAVertexFan) {
