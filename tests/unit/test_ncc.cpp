@@ -222,30 +222,30 @@ TEST(PhotoOrientations, StablePerpendicular) {
 }
 
 TEST(PhotoOptions, DefaultsPassAndBadValuesAreRejected) {
-  Options o;
+  photo::Options o;
   EXPECT_NO_THROW(o.check());
   EXPECT_EQ(o.k_prime(), 3);
   EXPECT_EQ(o.min_cams(), 4);
-  Options k8 = o;
+  photo::Options k8 = o;
   k8.k = 8;
   EXPECT_EQ(k8.k_prime(), 4);
   const auto bad = [&](auto mutate) {
-    Options b = o;
+    photo::Options b = o;
     mutate(b);
     EXPECT_THROW(b.check(), Error);
   };
-  bad([](Options& b) { b.mu = 10; });
-  bad([](Options& b) { b.mu = 1; });
-  bad([](Options& b) { b.mu = kMaxMu + 2; });
-  bad([](Options& b) { b.k = 3; });
-  bad([](Options& b) { b.k = kMaxK + 1; });
-  bad([](Options& b) { b.cone_deg = 0; });
-  bad([](Options& b) { b.cone_deg = 90; });
-  bad([](Options& b) { b.cone_deg = NAN; });
-  bad([](Options& b) { b.T = 1.0; });
-  bad([](Options& b) { b.min_std = -1; });
+  bad([](photo::Options& b) { b.mu = 10; });
+  bad([](photo::Options& b) { b.mu = 1; });
+  bad([](photo::Options& b) { b.mu = kMaxMu + 2; });
+  bad([](photo::Options& b) { b.k = 3; });
+  bad([](photo::Options& b) { b.k = kMaxK + 1; });
+  bad([](photo::Options& b) { b.cone_deg = 0; });
+  bad([](photo::Options& b) { b.cone_deg = 90; });
+  bad([](photo::Options& b) { b.cone_deg = NAN; });
+  bad([](photo::Options& b) { b.T = 1.0; });
+  bad([](photo::Options& b) { b.min_std = -1; });
   try {
-    Options b = o;
+    photo::Options b = o;
     b.k = 2;
     b.check();
     FAIL();
@@ -259,10 +259,10 @@ TEST(PhotoOptions, FromParamsRejectsWhatTheMeasureCannotUse) {
   // (that the fields' defaults are defaults.json's values: test_param_binding.cpp)
   // Values the parameter table accepts but the measure cannot use are rejected up front.
   p.set("photo.mu=10");
-  EXPECT_THROW(Options::from_params(p), Error);
+  EXPECT_THROW(photo::Options::from_params(p), Error);
   p = Params::defaults();
   p.set("photo.k=8");
   p.set("photo.T=0.45");
-  EXPECT_EQ(Options::from_params(p).k_prime(), 4);
-  EXPECT_EQ(Options::from_params(p).T, 0.45);
+  EXPECT_EQ(photo::Options::from_params(p).k_prime(), 4);
+  EXPECT_EQ(photo::Options::from_params(p).T, 0.45);
 }

@@ -45,7 +45,7 @@ fs::path temp_dir(const std::string& name) {
 }
 
 // The rendered dataset of a synth config, made once per build of the test binary and
-// shared by the test processes (gtest_discover_tests runs one process per test): cached
+// shared by its runs (and by processes running tests one by one with --gtest_filter): cached
 // in test_cache/ beside the binary, keyed by the config and the binary's size and time,
 // so a rebuild (maybe of synth) renders again. Made in a private directory and renamed
 // into place, so concurrent processes never see a partial one.
