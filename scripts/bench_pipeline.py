@@ -12,6 +12,13 @@ the crossing faces against the ground truth (both measured after the timed run).
   scripts/bench_pipeline.py --data synth-torus --levels 3 --out bench/results/synth-torus.json
   scripts/bench_pipeline.py --data dinoRing --recut      # also time a re-cut with another LAMBDA
   scripts/bench_pipeline.py --data synth-torus SYNTH_DIR=/tmp/t08 "SYNTH_FLAGS=--texture 0.08"  # a variant scene
+  scripts/bench_pipeline.py --data synth-cup --ab "BUILD_DIR=/tmp/old/build" "" --repeat 2  # before / after
+
+--ab A B compares two configurations (each a quoted list of make variables: another build,
+other parameters) in one session, alternating A, B, A, B, ... --repeat times, each run from
+a clean run directory (<run-dir>-A, <run-dir>-B): the machines are shared and noisy, and a
+comparison of two sessions measures the neighbours. It writes per stage each run's wall and
+CPU seconds, their means and B's change against A (--out: the comparison's JSON).
 
 The run directory is /tmp/tetmvs-bench/<data>-L<levels> unless --run-dir is given; its
 bench.json is also written there, so `make report` shows it. Timing is not a test: this
@@ -138,27 +145,101 @@ def main():
     ap.add_argument("--recut", action="store_true", help="also time a re-cut with LAMBDA changed")
     ap.add_argument("--collect", action="store_true",
                     help="run nothing: collect the numbers of an existing run directory (pipeline wall = sum of stages)")
+    ap.add_argument("--ab", nargs=2, metavar=("A", "B"),
+                    help="compare two configurations, each a quoted list of make variables (\"\" for none)")
+    ap.add_argument("--repeat", type=int, default=2, help="with --ab: runs of each configuration (default 2)")
     ap.add_argument("vars", nargs="*", help="extra make variables, e.g. T=0.8")
     args = ap.parse_args()
+    if args.ab and (args.collect or args.recut or args.keep):
+        ap.error("--ab makes its own clean runs: not with --collect, --recut or --keep")
+    if args.repeat < 1:
+        ap.error(f"--repeat {args.repeat}: give at least 1")
+    if args.ab:
+        return compare(args)
     run_dir = os.path.abspath(args.run_dir or f"/tmp/tetmvs-bench/{args.data}-L{args.levels}")
     wall = None
     if not args.collect:
-        if not args.keep and os.path.isdir(run_dir):
-            shutil.rmtree(run_dir)
-        os.makedirs(run_dir, exist_ok=True)
-        # build first, so compile time is not counted
-        subprocess.run(["make", "-s", "-f", os.path.join(ROOT, "pipeline.mk"), "programs"], check=True)
-        # a synthetic scene's rendering is not part of the pipeline: render it first
-        if args.data.startswith("synth-"):
-            synth_vars = [v for v in args.vars if v.startswith(("SYNTH_DIR=", "SYNTH_FLAGS=", "SYNTH_CAMERAS="))]
-            gt = synth_gt(args)
-            if not os.path.exists(gt):
-                subprocess.run(["make", "-s", "-f", os.path.join(ROOT, "pipeline.mk"), f"DATA={args.data}"] + synth_vars + [gt],
-                               check=True)
+        prepare(args, run_dir, args.vars, clean=not args.keep)
         wall = run_make(args, run_dir, args.vars, ["final"])
         if args.data.startswith("synth-"):  # quality, not timed
             run_make(args, run_dir, args.vars, ["evaluate"])
+    result = summarize(args, run_dir, wall)
+    write_json(os.path.join(run_dir, "bench.json"), result)
+    if args.out:
+        write_json(args.out, result)
+    print_result(args, result)
 
+
+def prepare(args, run_dir, extra, clean=True):
+    """A clean run directory, the programs built (compile time is not counted) and a
+    synthetic scene rendered (its rendering is not part of the pipeline)."""
+    if clean and os.path.isdir(run_dir):
+        shutil.rmtree(run_dir)
+    os.makedirs(run_dir, exist_ok=True)
+    build = [v for v in extra if v.startswith("BUILD_DIR=")]
+    subprocess.run(["make", "-s", "-f", os.path.join(ROOT, "pipeline.mk"), "programs"] + build, check=True)
+    if args.data.startswith("synth-"):
+        synth_vars = [v for v in args.vars if v.startswith(("SYNTH_DIR=", "SYNTH_FLAGS=", "SYNTH_CAMERAS="))]
+        if not os.path.exists(synth_gt(args)):
+            subprocess.run(["make", "-s", "-f", os.path.join(ROOT, "pipeline.mk"), f"DATA={args.data}"] + synth_vars +
+                           [synth_gt(args)], check=True)
+
+
+def compare(args):
+    """--ab: A and B alternately, --repeat times each; per stage the runs' seconds, their means
+    and B's change against A."""
+    base = os.path.abspath(args.run_dir or f"/tmp/tetmvs-bench/{args.data}-L{args.levels}")
+    conf = {"A": args.vars + shlex.split(args.ab[0]), "B": args.vars + shlex.split(args.ab[1])}
+    runs = {"A": [], "B": []}
+    for k in range(args.repeat):
+        for name in ("A", "B"):
+            run_dir = f"{base}-{name}"
+            prepare(args, run_dir, conf[name])
+            wall = run_make(args, run_dir, conf[name], ["final"])
+            r = summarize(args, run_dir, wall, quality=False)
+            runs[name].append({"pipeline_wall_s": r["pipeline_wall_s"], "pipeline_cpu_s": r["pipeline_cpu_s"],
+                               "peak_memory_mb": r["peak_memory_mb"], "per_stage": r["per_stage"]})
+            print(f"run {k + 1} {name}: {r['pipeline_wall_s']} s wall, {r['pipeline_cpu_s']} CPU-s", flush=True)
+    mean = lambda xs: round(sum(xs) / len(xs), 3)
+    table = {}
+    for key in ["pipeline"] + list(runs["A"][0]["per_stage"]):
+        row = {}
+        for name in ("A", "B"):
+            for t in ("wall_s", "cpu_s"):
+                xs = [r[f"pipeline_{t}"] if key == "pipeline" else r["per_stage"].get(key, {}).get(t, 0.0)
+                      for r in runs[name]]
+                row[f"{name}_{t}"] = xs
+                row[f"{name}_{t}_mean"] = mean(xs)
+        for t in ("wall_s", "cpu_s"):
+            a = row[f"A_{t}_mean"]
+            row[f"change_{t}"] = round(row[f"B_{t}_mean"] / a - 1.0, 4) if a > 0 else None
+        table[key] = row
+    result = {"schema": "tetmvs.bench_compare", "schema_version": 1, "data": args.data, "levels": args.levels,
+              "make_vars": args.vars, "A": args.ab[0], "B": args.ab[1], "repeat": args.repeat,
+              "order": "A, B alternately", "machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
+              "git": subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
+                                    text=True).stdout.strip(),
+              "stages": table, "runs": runs}
+    if args.out:
+        write_json(args.out, result)
+    print(f"{args.data} L{args.levels}: A = [{args.ab[0]}], B = [{args.ab[1]}], {args.repeat} runs each, alternating")
+    print(f"  {'stage':16s} {'A wall':>8s} {'B wall':>8s} {'change':>7s} {'A cpu':>8s} {'B cpu':>8s} {'change':>7s}")
+    for key, row in table.items():
+        ch = lambda t: "-" if row[f"change_{t}"] is None else f"{100 * row[f'change_{t}']:+.1f}%"
+        print(f"  {key:16s} {row['A_wall_s_mean']:8.1f} {row['B_wall_s_mean']:8.1f} {ch('wall_s'):>7s} "
+              f"{row['A_cpu_s_mean']:8.1f} {row['B_cpu_s_mean']:8.1f} {ch('cpu_s'):>7s}")
+
+
+def write_json(path, result):
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    with open(path + ".tmp", "w") as f:
+        f.write(json.dumps(result, indent=1))
+    os.replace(path + ".tmp", path)
+
+
+def summarize(args, run_dir, wall, quality=True):
+    """The benchmark's JSON of a finished run directory (wall: the timed make, or None for
+    --collect: the sum of the stages of the last run of each)."""
     entries = [json.loads(line) for line in open(os.path.join(run_dir, "stages.jsonl"))]
     entries = [e for e in entries if e.get("stage") not in ("synth", "report", "evaluate")]
     if wall is None:  # --collect: the last run of each stage/output
@@ -231,17 +312,13 @@ def main():
             if d.get("labels"):
                 q["wrong_labels"] = {side: d["labels"][side]["wrong"] for side in ("interior", "exterior")}
             result.setdefault("quality", {})[ev] = q
-    if args.data.startswith("synth-") and os.path.exists(synth_gt(args)):
+    if quality and args.data.startswith("synth-") and os.path.exists(synth_gt(args)):
         result.setdefault("quality", {})["crossing_faces"] = crossing_recall(run_dir, entries, synth_gt(args))
-    text = json.dumps(result, indent=1)
-    with open(os.path.join(run_dir, "bench.json.tmp"), "w") as f:
-        f.write(text)
-    os.replace(os.path.join(run_dir, "bench.json.tmp"), os.path.join(run_dir, "bench.json"))
-    if args.out:
-        os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-        with open(args.out + ".tmp", "w") as f:
-            f.write(text)
-        os.replace(args.out + ".tmp", args.out)
+    return result
+
+
+def print_result(args, result):
+    per_stage = result["per_stage"]
     print(f"{args.data} L{args.levels}: pipeline {result['pipeline_wall_s']} s wall, peak {result['peak_memory_mb']} MB")
     for k, s in per_stage.items():
         print(f"  {k:16s} {s['wall_s']:9.1f} s wall {s['cpu_s']:9.1f} s cpu {s['peak_memory_mb']:8.0f} MB  x{s['runs']}")
