@@ -97,7 +97,13 @@ def synth_gt(args):
     return os.path.join(synth_dir, args.data, "gt.ply")
 
 
-def crossing_recall(run_dir, entries, gt):
+def build_dir(make_vars):
+    """pipeline.mk's BUILD_DIR among the make variables (the last one given), else build/."""
+    given = [v.split("=", 1)[1] for v in make_vars if v.startswith("BUILD_DIR=")]
+    return given[-1] if given else os.path.join(ROOT, "build")
+
+
+def crossing_recall(run_dir, entries, gt, bin_dir):
     """Per level, photoconsist's level pass run again with --gt on the run's own mesh, cache
     and parameters (its logged command line) into run_dir/recall/: the share of the faces the
     true surface crosses that the pass found (recall), of the found faces within two cells of
@@ -113,7 +119,7 @@ def crossing_recall(run_dir, entries, gt):
         argv = shlex.split(a)
         out = os.path.join(out_dir, f"pc_{level_of(a)}.h5")
         argv[argv.index("--out") + 1] = out
-        subprocess.run([os.path.join(ROOT, "build", "bin", "photoconsist")] + argv + ["--gt", gt, "--quiet"], check=True)
+        subprocess.run([os.path.join(bin_dir, "photoconsist")] + argv + ["--gt", gt, "--quiet"], check=True)
         with h5py.File(out, "r") as f:
             ev = dict(f["eval"].attrs)
         rows.append({"level": level_of(a)} | {k: (round(float(v), 5) if isinstance(v, float) else int(v))
@@ -176,13 +182,13 @@ def prepare(args, run_dir, extra, clean=True):
     if clean and os.path.isdir(run_dir):
         shutil.rmtree(run_dir)
     os.makedirs(run_dir, exist_ok=True)
-    build = [v for v in extra if v.startswith("BUILD_DIR=")]
-    subprocess.run(["make", "-s", "-f", os.path.join(ROOT, "pipeline.mk"), "programs"] + build, check=True)
+    subprocess.run(["make", "-s", "-f", os.path.join(ROOT, "pipeline.mk"), "programs", f"BUILD_DIR={build_dir(extra)}"],
+                   check=True)
     if args.data.startswith("synth-"):
         synth_vars = [v for v in args.vars if v.startswith(("SYNTH_DIR=", "SYNTH_FLAGS=", "SYNTH_CAMERAS="))]
         if not os.path.exists(synth_gt(args)):
-            subprocess.run(["make", "-s", "-f", os.path.join(ROOT, "pipeline.mk"), f"DATA={args.data}"] + synth_vars +
-                           [synth_gt(args)], check=True)
+            subprocess.run(["make", "-s", "-f", os.path.join(ROOT, "pipeline.mk"), f"DATA={args.data}",
+                            f"BUILD_DIR={build_dir(extra)}"] + synth_vars + [synth_gt(args)], check=True)
 
 
 def compare(args):
@@ -313,7 +319,8 @@ def summarize(args, run_dir, wall, quality=True):
                 q["wrong_labels"] = {side: d["labels"][side]["wrong"] for side in ("interior", "exterior")}
             result.setdefault("quality", {})[ev] = q
     if quality and args.data.startswith("synth-") and os.path.exists(synth_gt(args)):
-        result.setdefault("quality", {})["crossing_faces"] = crossing_recall(run_dir, entries, synth_gt(args))
+        result.setdefault("quality", {})["crossing_faces"] = crossing_recall(run_dir, entries, synth_gt(args),
+                                                                        os.path.join(build_dir(args.vars), "bin"))
     return result
 
 
