@@ -80,7 +80,6 @@ std::optional<ImageSize> pnm_size(std::ifstream& in) {
 
 }  // namespace
 
-
 std::optional<ImageSize> read_image_size(const fs::path& file) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) return std::nullopt;

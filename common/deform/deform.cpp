@@ -489,6 +489,7 @@ void sample_vertex_colours(TriMesh& m, const Scene& scene, double tol_px, const 
   const int nv = static_cast<int>(m.nv()), nc = scene.size();
   require(!rasters || static_cast<int>(rasters->size()) == nc, "sample_vertex_colours: ", rasters ? rasters->size() : 0,
           " rasters for ", nc, " views");
+  // (visibility reads the depths only: the silhouette distance's reach does not matter)
   const auto vis = vertex_visibility(m.V, scene.cams, rasters ? *rasters : rasterize_all(m, scene, 1), tol_px);
   m.C.assign(nv, {128, 128, 128});
   if (static_cast<int>(scene.rgb.size()) != nc) return;

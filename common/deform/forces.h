@@ -38,7 +38,7 @@ struct ViewRaster {
 };
 // sil: the view's silhouette (empty: no IoU counts). sd_reach: the distance within which sd is
 // exact (sd_reach_px of the options the silhouette force uses).
-ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat& sil, int sd_reach = 8);
+ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat& sil, int sd_reach);
 
 // Area-weighted unit vertex normals.
 std::vector<Eigen::Vector3d> vertex_normals(const std::vector<Eigen::Vector3d>& V,

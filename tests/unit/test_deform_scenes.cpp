@@ -97,7 +97,7 @@ std::vector<double> photometric_steps_px(const DeformScene& d, double out_px, in
     tm.V = V;
     tm.F = d.gt.F;
     std::vector<deform::ViewRaster> vr;
-    for (const auto& c : d.scene.cams) vr.push_back(deform::rasterize_view(tm, c, cv::Mat()));
+    for (const auto& c : d.scene.cams) vr.push_back(deform::rasterize_view(tm, c, cv::Mat(), deform::Options().sd_reach_px()));
     std::vector<const Raster*> rp;
     for (const auto& r : vr) rp.push_back(&r.raster);
     const deform::PhotometricGradient g2 = deform::photometric_gradient(V, d.gt.F, gn, lv, partners, 7, rp);
