@@ -496,7 +496,7 @@ std::string file_sha256(const fs::path& file) {
 }
 
 #define TETMVS_H5_INSTANTIATE(T)                                                              \
-  template void File::write<T>(const std::string&, const T*, const Shape&);             \
+  template void File::write<T>(const std::string&, const T*, const Shape&);                   \
   template Array<T> File::read<T>(const std::string&, const std::vector<std::int64_t>&, bool) \
       const;
 TETMVS_H5_INSTANTIATE(double)

@@ -107,7 +107,8 @@ def crossing_recall(run_dir, entries, gt, bin_dir):
     """Per level, photoconsist's level pass run again with --gt on the run's own mesh, cache
     and parameters (its logged command line) into run_dir/recall/: the share of the faces the
     true surface crosses that the pass found (recall), of the found faces within two cells of
-    the surface (precision), of the crossed cells made active (cell_recall), and the counts."""
+    the surface (precision), of the crossed cells made active (cell_recall), the active cells
+    away from the surface (active_far; active_far_air: of those, in free space), and the counts."""
     import h5py
     out_dir = os.path.join(run_dir, "recall")
     os.makedirs(out_dir, exist_ok=True)
@@ -125,7 +126,8 @@ def crossing_recall(run_dir, entries, gt, bin_dir):
         rows.append({"level": level_of(a)} | {k: (round(float(v), 5) if isinstance(v, float) else int(v))
                                                for k, v in ev.items() if k in (
                                                    "recall", "precision", "cell_recall", "gt_crossed", "found",
-                                                   "crossing", "crossing_near", "points_within_cell")})
+                                                   "crossing", "crossing_near", "points_within_cell",
+                                                   "active", "active_far", "active_far_air")})
     shutil.rmtree(out_dir)
     return rows
 
@@ -333,7 +335,8 @@ def print_result(args, result):
         if k == "crossing_faces":
             for r in q:
                 print(f"  level {r['level']} crossing faces: recall {r['recall']:.4f}, precision {r['precision']:.4f} "
-                      f"({r['found']} of {r['gt_crossed']} crossed found, {r['crossing']} found in all)")
+                      f"({r['found']} of {r['gt_crossed']} crossed found, {r['crossing']} found in all); "
+                      f"active cells {r['active']}, {r['active_far']} away from the surface ({r['active_far_air']} in free space)")
         else:
             print(f"  {k}: accuracy90 {q['accuracy_mm']} mm, completeness {100 * q['completeness']:.2f} %")
     for k, t in result["targets"].items():

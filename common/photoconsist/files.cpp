@@ -63,6 +63,10 @@ const h5::Fields<LevelEvalOutput>& eval_fields() {
           .attr("", "found", [](const E& e) { return e.eval.found; }).show()
           .attr("", "crossing", [](const E& e) { return e.eval.crossing; })
           .attr("", "crossing_near", [](const E& e) { return e.eval.crossing_near; })
+          .attr("", "active", [](const E& e) { return e.eval.active; })
+          .attr("", "active_far", [](const E& e) { return e.eval.active_far; })
+          .attr("", "active_far_air", [](const E& e) { return e.eval.active_far_air; })
+          .attr("", "active_far_share", [](const E& e) { return e.eval.active_far_share(); }).show("active_far", 3)
           .attr("", "cell_size", &E::cell_size)
           .attr("", "near_dist", [](const E& e) { return e.eval.near_dist; });
   return t;

@@ -85,6 +85,28 @@ LevelEval evaluate_level(const tet::TetMesh& m, const LevelResult& r, const Grou
       if (r.active[c]) ++E.cells_found;
     }
   }
+  // active cells with no tested face near the surface, and of those the ones in free space
+  std::vector<std::int64_t> tested_index(m.num_faces(), -1);
+  for (std::int64_t t = 0; t < T; ++t) tested_index[r.face[t]] = t;
+  std::vector<std::int32_t> far;
+  for (std::int32_t c = 0; c < m.num_cells(); ++c) {
+    if (!r.active[c]) continue;
+    ++E.active;
+    bool near = false;
+    for (int k = 0; k < 4 && !near; ++k) {
+      const std::int64_t t = tested_index[m.cell_face[c][k]];
+      near = t >= 0 && (E.face_gt_crossed[t] || E.face_gt_distance[t] <= E.near_dist);
+    }
+    if (!near) far.push_back(c);
+  }
+  E.active_far = static_cast<std::int64_t>(far.size());
+  std::int64_t air = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : air)
+  for (std::int64_t i = 0; i < E.active_far; ++i) {
+    const tet::Tet& t = m.cell_v[far[i]];
+    air += !gt.inside((m.vertex(t[0]) + m.vertex(t[1]) + m.vertex(t[2]) + m.vertex(t[3])) / 4);
+  }
+  E.active_far_air = air;
   E.points = r.points.size();
   for (std::int64_t p = 0; p < E.points; ++p)
     if (gt.distance(r.points.pos(p)) <= cell_size) ++E.points_near;

@@ -37,12 +37,17 @@ struct LevelEval {
   std::int64_t crossing_near = 0; // of those, within near_dist of the GT surface
   std::int64_t cells_gt = 0;      // tested cells (cell_new_red) with corners on both sides
   std::int64_t cells_found = 0;   // of those, active
+  std::int64_t active = 0;        // active cells
+  std::int64_t active_far = 0;    // of those, with no tested face within near_dist of the GT surface
+  std::int64_t active_far_air = 0;  // of those, with the centroid outside the GT surface (free space)
   std::int64_t points = 0;        // Q points of the level
   std::int64_t points_near = 0;   // within one cell size (near_dist / 2) of the GT surface
   double recall() const { return gt_crossed ? static_cast<double>(found) / gt_crossed : 1.0; }
   double precision() const { return crossing ? static_cast<double>(crossing_near) / crossing : 1.0; }
   double cell_recall() const { return cells_gt ? static_cast<double>(cells_found) / cells_gt : 1.0; }
   double points_accuracy() const { return points ? static_cast<double>(points_near) / points : 1.0; }
+  // Share of the active cells that lie away from the surface: work the next level spends for nothing.
+  double active_far_share() const { return active ? static_cast<double>(active_far) / active : 0.0; }
   // Per tested face (same order as LevelResult::face).
   std::vector<std::uint8_t> face_gt_crossed;
   std::vector<float> face_gt_distance;  // 0 when crossed; else min distance of 7 samples (vertices, edge midpoints, centroid)

@@ -320,12 +320,19 @@ std::string build_report(const Options& o) {
       const json q = b.value("quality", json::object());
       if (q.contains("crossing_faces")) {
         h << "<table><tr><th>level</th><th>faces the surface crosses</th><th>found of them (recall)</th>"
-          << "<th>crossing faces found</th><th>within two cells (precision)</th></tr>\n";
-        for (const auto& r : q["crossing_faces"])
+          << "<th>crossing faces found</th><th>within two cells (precision)</th><th>active cells</th>"
+          << "<th>of them away from the surface (in free space)</th></tr>\n";
+        for (const auto& r : q["crossing_faces"]) {
           h << "<tr><td>" << r.value("level", 0) << "</td><td class=num>" << r.value("gt_crossed", 0)
             << "</td><td class=num>" << r.value("found", 0) << " (" << fmt(r.value("recall", 0.0), 4) << ")</td><td class=num>"
             << r.value("crossing", 0) << "</td><td class=num>" << r.value("crossing_near", 0) << " ("
-            << fmt(r.value("precision", 0.0), 4) << ")</td></tr>\n";
+            << fmt(r.value("precision", 0.0), 4) << ")</td>";
+          if (r.contains("active"))  // benchmarks written before these counts existed lack them
+            h << "<td class=num>" << r.value("active", 0) << "</td><td class=num>" << r.value("active_far", 0) << " ("
+              << r.value("active_far_air", 0) << ")</td></tr>\n";
+          else
+            h << "<td>-</td><td>-</td></tr>\n";
+        }
         h << "</table>\n";
       }
     } catch (const std::exception& e) {

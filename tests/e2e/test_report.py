@@ -146,7 +146,10 @@ def main():
              "mesh": {"cells_final": 1000, "cells_uniform_same_finest": 4000, "fraction_of_uniform": 0.25},
              "stages": [], "quality": {"crossing_faces": [
                  {"level": 1, "gt_crossed": 17024, "found": 17020, "recall": 0.99977, "crossing": 49587,
-                  "crossing_near": 48469, "precision": 0.97751}]}}
+                  "crossing_near": 48469, "precision": 0.97751, "active": 30000, "active_far": 2500,
+                  "active_far_air": 2000},
+                 {"level": 0, "gt_crossed": 4280, "found": 4280, "recall": 1.0, "crossing": 8060,
+                  "crossing_near": 8060, "precision": 1.0}]}}
     with open(os.path.join(run, "bench.json"), "w") as f:
         json.dump(bench, f)
     bench_page = os.path.join(run, "report", "bench.html")
@@ -155,8 +158,12 @@ def main():
     bhtml = open(bench_page, encoding="utf-8").read() if os.path.exists(bench_page) else ""
     expect("<h2>Benchmark" in bhtml, "the benchmark section is shown")
     expect(re.search(r"<tr><td>1</td><td class=num>17024</td><td class=num>17020 \(0\.9998\)</td>"
-                     r"<td class=num>49587</td><td class=num>48469 \(0\.9775\)</td></tr>", bhtml) is not None,
-           "the crossing faces' row of level 1: crossed, found (recall), found in all, near (precision)")
+                     r"<td class=num>49587</td><td class=num>48469 \(0\.9775\)</td><td class=num>30000</td>"
+                     r"<td class=num>2500 \(2000\)</td></tr>", bhtml) is not None,
+           "the crossing faces' row of level 1: crossed, found (recall), found in all, near (precision), "
+           "active cells, away from the surface (in free space)")
+    expect(re.search(r"<tr><td>0</td><td class=num>4280</td>.*?<td>-</td><td>-</td></tr>", bhtml) is not None,
+           "a row of an older benchmark without the active cells' counts shows dashes")
     os.remove(os.path.join(run, "bench.json"))
 
     # a real browser

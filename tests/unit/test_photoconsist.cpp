@@ -373,8 +373,29 @@ TEST(PhotoconsistScene, Level0FindsTheSurface) {
   EXPECT_GE(E.recall(), 0.95);
   EXPECT_GE(E.cell_recall(), 0.98);
   EXPECT_GE(E.precision(), 0.9);
-  // Adaptivity: far fewer cells are active than lie inside the box.
+  // Adaptivity: far fewer cells are active than lie inside the box, and few of them away
+  // from the surface (the counts of the active cells agree with the pass's).
   EXPECT_LT(F.r0.active_cells, F.m0.num_cells() / 3);
+  std::printf("level 0: active %lld, away from the surface %lld (%.3f), in free space %lld\n", (long long)E.active,
+              (long long)E.active_far, E.active_far_share(), (long long)E.active_far_air);
+  EXPECT_EQ(E.active, F.r0.active_cells);
+  EXPECT_LE(E.active_far_air, E.active_far);
+  EXPECT_LE(E.active_far_share(), 0.1);
+  {  // a cell in free space, several cells from the surface, made active, is counted as such
+    pc::LevelResult r = F.r0;
+    std::int32_t stray = -1;
+    for (std::int32_t c = 0; c < F.m0.num_cells() && stray < 0; ++c) {
+      const tet::Tet& t = F.m0.cell_v[c];
+      const Eigen::Vector3d X = (F.m0.vertex(t[0]) + F.m0.vertex(t[1]) + F.m0.vertex(t[2]) + F.m0.vertex(t[3])) / 4;
+      if (!r.active[c] && !F.gt->inside(X) && F.gt->distance(X) > 4 * cs) stray = c;
+    }
+    ASSERT_GE(stray, 0);
+    r.active[stray] = 1;
+    const pc::LevelEval Es = pc::evaluate_level(F.m0, r, *F.gt, cs);
+    EXPECT_EQ(Es.active, E.active + 1);
+    EXPECT_EQ(Es.active_far, E.active_far + 1);
+    EXPECT_EQ(Es.active_far_air, E.active_far_air + 1);
+  }
   // Q: one point per crossing face, near the surface, unit normals, k'+1 cameras.
   EXPECT_EQ(F.r0.points.size(), F.r0.crossing_faces);
   EXPECT_GE(E.points_accuracy(), 0.9);
