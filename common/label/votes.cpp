@@ -151,6 +151,19 @@ std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s
   for (std::int32_t c = 0; c < C; ++c)
     if (!counted || (*counted)[c]) cells.push_back(c);
   const std::int32_t N = static_cast<std::int32_t>(cells.size());
+  // the counted cells' vertices, each projected once per view: slot[4 i + k] is corner k of
+  // counted cell i in the list `corners`
+  std::vector<std::int32_t> corners, slot(static_cast<std::size_t>(N) * 4);
+  {
+    std::vector<std::int32_t> at(m.num_vertices(), -1);
+    for (std::int32_t i = 0; i < N; ++i)
+      for (int k = 0; k < 4; ++k) {
+        std::int32_t& a = at[m.cell_v[cells[i]][k]];
+        if (a < 0) a = static_cast<std::int32_t>(corners.size()), corners.push_back(m.cell_v[cells[i]][k]);
+        slot[4 * static_cast<std::size_t>(i) + k] = a;
+      }
+  }
+  const std::int32_t NV = static_cast<std::int32_t>(corners.size());
   std::vector<CellPlanes> planes(N);
 #pragma omp parallel for schedule(static)
   for (std::int32_t i = 0; i < N; ++i) planes[i] = cell_planes(*pts, m.cell_v[cells[i]]);
@@ -171,7 +184,8 @@ std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s
     mine.assign(C, 0);
     std::vector<tet::WalkHit> hits;
     std::vector<Eigen::Vector3d> origin, dir;
-    std::vector<double> depth, tile_depth;
+    std::vector<double> depth, tile_depth, corner_depth(NV);
+    std::vector<Eigen::Vector2d> corner_px(NV);
     std::vector<std::int32_t> pixel, outside;  // outside: the rays projecting outside the image
     RayBuckets b;
 #pragma omp for schedule(dynamic, 1) nowait
@@ -191,9 +205,13 @@ std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s
       // The walk of every ray where the projection cannot stand for it: a camera inside the
       // grid (its rays go on past it) or a counted cell reaching behind it.
       bool project = !box.contains(centre);
+      if (project)
+        for (std::int32_t j = 0; j < NV; ++j) {
+          corner_depth[j] = cam.depth(pts->vertex[corners[j]]);
+          corner_px[j] = cam.project(pts->vertex[corners[j]]);
+        }
       if (project && !(min_depth(cam, counted_box) > tol))  // else every vertex lies in front
-        for (std::int32_t i = 0; i < N && project; ++i)
-          for (const std::int32_t x : m.cell_v[cells[i]]) project = project && cam.depth(pts->vertex[x]) > 0;
+        for (std::int32_t j = 0; j < NV && project; ++j) project = corner_depth[j] > 0;
       if (!project) {
         for (std::int32_t i = 0; i < R; ++i) {
           std::int32_t start = -1;
@@ -234,12 +252,12 @@ std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s
       // each counted cell against the rays near its projection
       std::array<Eigen::Vector2d, 4> corner;
       for (std::int32_t i = 0; i < N; ++i) {
-        const tet::Tet& t = m.cell_v[cells[i]];
         double zmin = std::numeric_limits<double>::infinity();
         bool inside = true;  // the projection wholly inside the image (kReach from its border)
         for (int k = 0; k < 4; ++k) {
-          zmin = std::min(zmin, cam.depth(pts->vertex[t[k]]));
-          corner[k] = cam.project(pts->vertex[t[k]]);
+          const std::int32_t j = slot[4 * static_cast<std::size_t>(i) + k];
+          zmin = std::min(zmin, corner_depth[j]);
+          corner[k] = corner_px[j];
           inside = inside && corner[k].x() >= kReach && corner[k].y() >= kReach && corner[k].x() <= W - 1 - kReach &&
                    corner[k].y() <= H - 1 - kReach;
         }
