@@ -48,13 +48,48 @@ void for_splat_rows(const Camera& cam, const Eigen::Vector3d& X, double z, doubl
   }
 }
 
-void keep_nearest_rows(cv::Mat& img, const Camera& cam, const Eigen::Vector3d& X, double z, double cell) {
-  const float zf = static_cast<float>(z);
-  for_splat_rows(cam, X, z, cell, [&](int w, int a, int b) {
-    float* row = img.ptr<float>(w);
-    for (int u = a; u <= b; ++u)
-      if (row[u] == 0 || z < row[u]) row[u] = zf;
-  });
+// A disc splat: centre pixel (u, w), radius r (pixels) and value.
+struct Splat {
+  int u, w, r;
+  float value;
+};
+
+// The splat of point X at depth z > 0 as for_splat_rows covers it; false when its disc
+// misses the image.
+bool splat_of(const Camera& cam, const Eigen::Vector3d& X, double z, double cell, float value, Splat& s) {
+  const Eigen::Vector2d px = cam.project(X);
+  s.r = std::max(1, static_cast<int>(std::ceil(cell * cam.focal() / z)));
+  if (!(std::abs(px.x()) < 1e9 && std::abs(px.y()) < 1e9)) return false;
+  s.u = static_cast<int>(std::lround(px.x())), s.w = static_cast<int>(std::lround(px.y()));
+  s.value = value;
+  return s.u >= -s.r && s.u < cam.width + s.r && s.w >= -s.r && s.w < cam.height + s.r;
+}
+
+// The largest value of the splats covering each pixel of a W x H image (-inf: none): per
+// radius, the values placed at their centres (on the image grown by the radius) and dilated
+// by that disc, which equals stamping every disc and is several times quicker.
+cv::Mat max_of_splats(const std::vector<Splat>& splats, int W, int H) {
+  constexpr float kNone = -std::numeric_limits<float>::infinity();
+  cv::Mat out(H, W, CV_32F, cv::Scalar(kNone));
+  std::vector<int> radii;
+  for (const Splat& s : splats)
+    if (std::find(radii.begin(), radii.end(), s.r) == radii.end()) radii.push_back(s.r);
+  std::sort(radii.begin(), radii.end());
+  for (const int r : radii) {
+    cv::Mat centres(H + 2 * r, W + 2 * r, CV_32F, cv::Scalar(kNone));
+    for (const Splat& s : splats)
+      if (s.r == r) {
+        float& c = centres.at<float>(s.w + r, s.u + r);
+        c = std::max(c, s.value);
+      }
+    cv::Mat disc(2 * r + 1, 2 * r + 1, CV_8U, cv::Scalar(0));
+    for (int dw = -r; dw <= r; ++dw)
+      for (int du = -r; du <= r; ++du) disc.at<std::uint8_t>(dw + r, du + r) = du * du + dw * dw <= r * r;
+    cv::Mat grown;
+    cv::dilate(centres, grown, disc, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(kNone));
+    out = cv::max(out, grown(cv::Rect(r, r, W, H)));
+  }
+  return out;
 }
 
 }  // namespace
@@ -83,26 +118,27 @@ DepthMaps depth_maps_of(const Scene& s, const QPoints& q, double cell, bool far_
 #pragma omp parallel for schedule(dynamic, 1)
   for (int v = 0; v < V; ++v) {
     const Camera& cam = s.cams[v];
-    cv::Mat front = cv::Mat::zeros(cam.height, cam.width, CV_32F);
-    cv::Mat back = cv::Mat::zeros(cam.height, cam.width, CV_32F);
     const Eigen::Vector3d C = cam.centre();
+    // front: the nearest splat (the largest of minus the depths); back: the farthest of the
+    // points facing away (float(min z) and float(max z), as stamping in any order gives)
+    std::vector<Splat> splats;
+    Splat sp;
     for (const std::int64_t p : by_view[v]) {
       const Eigen::Vector3d X = q.pos(p);
       const double z = cam.depth(X);
-      if (z > 0) keep_nearest_rows(front, cam, X, z, cell);
+      if (z > 0 && splat_of(cam, X, z, cell, -static_cast<float>(z), sp)) splats.push_back(sp);
     }
+    cv::Mat front = -max_of_splats(splats, cam.width, cam.height);
+    front.setTo(0, front == std::numeric_limits<float>::infinity());
+    splats.clear();
     for (std::int64_t p = 0; p < (far_side ? q.size() : 0); ++p) {
       const Eigen::Vector3d X = q.pos(p);
       if (!(q.nrm(p).dot(C - X) < 0)) continue;  // not facing away
       const double z = cam.depth(X);
-      if (z <= 0) continue;
-      const float zf = static_cast<float>(z);
-      for_splat_rows(cam, X, z, cell, [&](int w, int a, int b) {
-        float* row = back.ptr<float>(w);
-        for (int u = a; u <= b; ++u)
-          if (z > row[u]) row[u] = zf;
-      });
+      if (z > 0 && splat_of(cam, X, z, cell, static_cast<float>(z), sp)) splats.push_back(sp);
     }
+    cv::Mat back = max_of_splats(splats, cam.width, cam.height);
+    back.setTo(0, back == -std::numeric_limits<float>::infinity());
     if (with_exits) {
       cv::Mat exit = cv::Mat::zeros(cam.height, cam.width, CV_32F);
       cv::Mat entry = cv::Mat::zeros(cam.height, cam.width, CV_32F);

@@ -12,6 +12,7 @@
 #include <random>
 #include <opencv2/imgproc.hpp>
 
+#include "common/label/depth_maps.h"
 #include "common/label/hull.h"
 #include "common/label/labels.h"
 #include "common/label/votes.h"
@@ -738,5 +739,52 @@ TEST(Label, VotesEqualTheWalkOfEveryRay) {
     }
     EXPECT_GT(crossed, 1000);
     EXPECT_EQ(wrong, 0) << (inside ? "camera in the grid" : "cameras outside");
+  }
+}
+
+// Q's depth maps (splats by the disc of a finest cell, combined per radius by a dilation)
+// equal stamping every point's disc: front the nearest depth of the points a view sees,
+// back the farthest of the points facing away, 0 where none is; points near and past the
+// image border included.
+TEST(Label, DepthMapsEqualStampingEveryDisc) {
+  const CupCase k;
+  QPoints q = k.q;
+  const Camera& c0 = k.scene.cams[0];
+  const Eigen::Vector3d C0 = c0.centre();
+  for (const Eigen::Vector2d& px : {Eigen::Vector2d(-2.0, 10.0), Eigen::Vector2d(c0.width + 1.4, 20.0),
+                                   Eigen::Vector2d(30.0, c0.height - 0.6), Eigen::Vector2d(-40.0, -40.0)}) {
+    // a point on the ray of that pixel, at the depth of the object, seen by view 0
+    const Eigen::Vector3d d = c0.R.transpose() * (c0.K.inverse() * Eigen::Vector3d(px.x(), px.y(), 1.0));
+    const Eigen::Vector3d X = C0 + d * (c0.depth(Eigen::Vector3d(0, 0, 1)) / c0.depth(C0 + d));
+    q.add(X, (C0 - X).normalized(), 0.95f, {0, 1}, -1);
+  }
+  for (const double cell : {0.04, 0.11}) {
+    const label::DepthMaps d = label::q_depth_maps(k.scene, q, cell, false, 0);
+    const auto by_view = label::points_by_view(q, k.scene.size());
+    for (const int v : {0, 5, 11}) {
+      const Camera& cam = k.scene.cams[v];
+      cv::Mat front(cam.height, cam.width, CV_32F, cv::Scalar(0)), back = front.clone();
+      const auto stamp = [&](const Eigen::Vector3d& X, bool nearest) {
+        const double z = cam.depth(X);
+        if (!(z > 0)) return;
+        const Eigen::Vector2d p = cam.project(X);
+        const int r = std::max(1, static_cast<int>(std::ceil(cell * cam.focal() / z)));
+        const long u0 = std::lround(p.x()), w0 = std::lround(p.y());
+        for (long w = w0 - r; w <= w0 + r; ++w)
+          for (long u = u0 - r; u <= u0 + r; ++u) {
+            if (u < 0 || w < 0 || u >= cam.width || w >= cam.height || (u - u0) * (u - u0) + (w - w0) * (w - w0) > r * r)
+              continue;
+            float& f = (nearest ? front : back).at<float>(static_cast<int>(w), static_cast<int>(u));
+            if (nearest ? (f == 0 || z < f) : z > f) f = static_cast<float>(z);
+          }
+      };
+      for (const std::int64_t p : by_view[v]) stamp(q.pos(p), true);
+      for (std::int64_t p = 0; p < q.size(); ++p)
+        if (q.nrm(p).dot(cam.centre() - q.pos(p)) < 0) stamp(q.pos(p), false);
+      EXPECT_GT(cv::countNonZero(front), 1000);
+      EXPECT_GT(cv::countNonZero(back), 1000);
+      EXPECT_EQ(cv::countNonZero(front != d.front[v]), 0) << "view " << v << ", cell " << cell;
+      EXPECT_EQ(cv::countNonZero(back != d.back[v]), 0) << "view " << v << ", cell " << cell;
+    }
   }
 }
