@@ -58,7 +58,8 @@ struct Splat {
 // misses the image.
 bool splat_of(const Camera& cam, const Eigen::Vector3d& X, double z, double cell, float value, Splat& s) {
   const Eigen::Vector2d px = cam.project(X);
-  s.r = std::max(1, static_cast<int>(std::ceil(cell * cam.focal() / z)));
+  // (a radius beyond a million pixels covers as much of any image as a larger one)
+  s.r = static_cast<int>(std::clamp(std::ceil(cell * cam.focal() / z), 1.0, 1e6));
   if (!(std::abs(px.x()) < 1e9 && std::abs(px.y()) < 1e9)) return false;
   s.u = static_cast<int>(std::lround(px.x())), s.w = static_cast<int>(std::lround(px.y()));
   s.value = value;
@@ -67,13 +68,29 @@ bool splat_of(const Camera& cam, const Eigen::Vector3d& X, double z, double cell
 
 // The largest value of the splats covering each pixel of a W x H image (-inf: none): per
 // radius, the values placed at their centres (on the image grown by the radius) and dilated
-// by that disc, which equals stamping every disc and is several times quicker.
+// by that disc, which equals stamping every disc and is several times quicker. Discs wider
+// than kDilateRadius (a point close to a camera) are stamped.
 cv::Mat max_of_splats(const std::vector<Splat>& splats, int W, int H) {
   constexpr float kNone = -std::numeric_limits<float>::infinity();
+  constexpr int kDilateRadius = 32;
   cv::Mat out(H, W, CV_32F, cv::Scalar(kNone));
   std::vector<int> radii;
-  for (const Splat& s : splats)
-    if (std::find(radii.begin(), radii.end(), s.r) == radii.end()) radii.push_back(s.r);
+  for (const Splat& s : splats) {
+    if (s.r > kDilateRadius) {
+      const std::int64_t r2 = std::int64_t{s.r} * s.r;
+      for (int w = std::max(s.w - s.r, 0); w <= std::min(s.w + s.r, H - 1); ++w) {
+        const std::int64_t rest = r2 - std::int64_t{w - s.w} * (w - s.w);
+        auto du = static_cast<std::int64_t>(std::sqrt(static_cast<double>(rest)));  // the largest du, du^2 <= rest
+        while ((du + 1) * (du + 1) <= rest) ++du;
+        while (du * du > rest) --du;
+        float* row = out.ptr<float>(w);
+        for (std::int64_t u = std::max<std::int64_t>(s.u - du, 0); u <= std::min<std::int64_t>(s.u + du, W - 1); ++u)
+          row[u] = std::max(row[u], s.value);
+      }
+    } else if (std::find(radii.begin(), radii.end(), s.r) == radii.end()) {
+      radii.push_back(s.r);
+    }
+  }
   std::sort(radii.begin(), radii.end());
   for (const int r : radii) {
     cv::Mat centres(H + 2 * r, W + 2 * r, CV_32F, cv::Scalar(kNone));

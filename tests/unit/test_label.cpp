@@ -758,6 +758,10 @@ TEST(Label, DepthMapsEqualStampingEveryDisc) {
     const Eigen::Vector3d X = C0 + d * (c0.depth(Eigen::Vector3d(0, 0, 1)) / c0.depth(C0 + d));
     q.add(X, (C0 - X).normalized(), 0.95f, {0, 1}, -1);
   }
+  // and one close to camera 0, whose disc is wider than the dilated ones (stamped)
+  const Eigen::Vector3d axis = c0.R.row(2).transpose();
+  const Eigen::Vector3d close = C0 + axis * (0.11 * c0.focal() / 45.0);
+  q.add(close, -axis, 0.95f, {0, 1}, -1);
   for (const double cell : {0.04, 0.11}) {
     const label::DepthMaps d = label::q_depth_maps(k.scene, q, cell, false, 0);
     const auto by_view = label::points_by_view(q, k.scene.size());
