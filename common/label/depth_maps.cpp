@@ -31,31 +31,14 @@ cv::Mat nearest_in_window(const cv::Mat& front, int wr) {
   return nearm;
 }
 
-// The pixels of the disc (one finest cell at the point's depth, at least one pixel) that
-// point X at depth z > 0 covers in the image: f(w, u0, u1) per image row w, for the columns
-// u0..u1 (inclusive) of that row.
-template <class F>
-void for_splat_rows(const Camera& cam, const Eigen::Vector3d& X, double z, double cell, F&& f) {
-  const Eigen::Vector2d px = cam.project(X);
-  const int r = std::max(1, static_cast<int>(std::ceil(cell * cam.focal() / z)));
-  const int u0 = static_cast<int>(std::lround(px.x())), w0 = static_cast<int>(std::lround(px.y()));
-  for (int w = std::max(w0 - r, 0); w <= std::min(w0 + r, cam.height - 1); ++w) {
-    const int dw = w - w0;
-    int du = 0;  // the largest du with du^2 + dw^2 <= r^2
-    while ((du + 1) * (du + 1) + dw * dw <= r * r) ++du;
-    const int a = std::max(u0 - du, 0), b = std::min(u0 + du, cam.width - 1);
-    if (a <= b) f(w, a, b);
-  }
-}
-
 // A disc splat: centre pixel (u, w), radius r (pixels) and value.
 struct Splat {
   int u, w, r;
   float value;
 };
 
-// The splat of point X at depth z > 0 as for_splat_rows covers it; false when its disc
-// misses the image.
+// The splat of point X at depth z > 0: a disc of one finest cell at its depth (at least one
+// pixel) around its nearest pixel; false when the disc misses the image.
 bool splat_of(const Camera& cam, const Eigen::Vector3d& X, double z, double cell, float value, Splat& s) {
   const Eigen::Vector2d px = cam.project(X);
   // (a radius beyond a million pixels covers as much of any image as a larger one)
@@ -64,6 +47,22 @@ bool splat_of(const Camera& cam, const Eigen::Vector3d& X, double z, double cell
   s.u = static_cast<int>(std::lround(px.x())), s.w = static_cast<int>(std::lround(px.y()));
   s.value = value;
   return s.u >= -s.r && s.u < cam.width + s.r && s.w >= -s.r && s.w < cam.height + s.r;
+}
+
+// The pixels of splat s in a W x H image, those with du^2 + dw^2 <= r^2 from its centre:
+// f(w, u0, u1) per image row w, for the columns u0..u1 (inclusive) of that row.
+template <class F>
+void for_splat_rows(const Splat& s, int W, int H, F&& f) {
+  const std::int64_t r2 = std::int64_t{s.r} * s.r;
+  for (int w = std::max(s.w - s.r, 0); w <= std::min(s.w + s.r, H - 1); ++w) {
+    const std::int64_t rest = r2 - std::int64_t{w - s.w} * (w - s.w);
+    auto du = static_cast<std::int64_t>(std::sqrt(static_cast<double>(rest)));  // the largest du, du^2 <= rest
+    while ((du + 1) * (du + 1) <= rest) ++du;
+    while (du * du > rest) --du;
+    const auto a = static_cast<int>(std::max<std::int64_t>(s.u - du, 0));
+    const auto b = static_cast<int>(std::min<std::int64_t>(s.u + du, W - 1));
+    if (a <= b) f(w, a, b);
+  }
 }
 
 // The largest value of the splats covering each pixel of a W x H image (-inf: none): per
@@ -77,16 +76,10 @@ cv::Mat max_of_splats(const std::vector<Splat>& splats, int W, int H) {
   std::vector<int> radii;
   for (const Splat& s : splats) {
     if (s.r > kDilateRadius) {
-      const std::int64_t r2 = std::int64_t{s.r} * s.r;
-      for (int w = std::max(s.w - s.r, 0); w <= std::min(s.w + s.r, H - 1); ++w) {
-        const std::int64_t rest = r2 - std::int64_t{w - s.w} * (w - s.w);
-        auto du = static_cast<std::int64_t>(std::sqrt(static_cast<double>(rest)));  // the largest du, du^2 <= rest
-        while ((du + 1) * (du + 1) <= rest) ++du;
-        while (du * du > rest) --du;
+      for_splat_rows(s, W, H, [&](int w, int a, int b) {
         float* row = out.ptr<float>(w);
-        for (std::int64_t u = std::max<std::int64_t>(s.u - du, 0); u <= std::min<std::int64_t>(s.u + du, W - 1); ++u)
-          row[u] = std::max(row[u], s.value);
-      }
+        for (int u = a; u <= b; ++u) row[u] = std::max(row[u], s.value);
+      });
     } else if (std::find(radii.begin(), radii.end(), s.r) == radii.end()) {
       radii.push_back(s.r);
     }
@@ -165,11 +158,11 @@ DepthMaps depth_maps_of(const Scene& s, const QPoints& q, double cell, bool far_
           const double facing = q.nrm(p).dot(C - X);
           if (exits ? facing >= 0 : facing <= 0) continue;
           const double z = cam.depth(X);
-          if (z <= 0) continue;
+          const float zf = static_cast<float>(z);
+          if (!(z > 0 && splat_of(cam, X, z, cell, zf, sp))) continue;
           const cv::Mat& before = exits ? front : exit;
           cv::Mat& target = exits ? exit : entry;
-          const float zf = static_cast<float>(z);
-          for_splat_rows(cam, X, z, cell, [&](int w, int a, int b) {
+          for_splat_rows(sp, cam.width, cam.height, [&](int w, int a, int b) {
             const float* bef = before.ptr<float>(w);
             float* row = target.ptr<float>(w);
             for (int u = a; u <= b; ++u)

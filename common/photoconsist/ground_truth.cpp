@@ -102,10 +102,7 @@ LevelEval evaluate_level(const tet::TetMesh& m, const LevelResult& r, const Grou
   E.active_far = static_cast<std::int64_t>(far.size());
   std::int64_t air = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : air)
-  for (std::int64_t i = 0; i < E.active_far; ++i) {
-    const tet::Tet& t = m.cell_v[far[i]];
-    air += !gt.inside((m.vertex(t[0]) + m.vertex(t[1]) + m.vertex(t[2]) + m.vertex(t[3])) / 4);
-  }
+  for (std::int64_t i = 0; i < E.active_far; ++i) air += !gt.inside(m.cell_centroid(far[i]));
   E.active_far_air = air;
   E.points = r.points.size();
   for (std::int64_t p = 0; p < E.points; ++p)
