@@ -109,6 +109,7 @@ const h5::Fields<LevelOutput>& level_fields() {
           .show("rescored").show_when(occluded)
           .attr("/faces", "hull_dropped_points", [](const L& o) { return o.pass.hull_dropped_points; })
           .show("hull_dropped").show_when([](const L& o) { return o.q_hull_views > 0; })
+          .attr("/faces", "sight_faces", [](const L& o) { return o.pass.sight_faces; }).show("in_seen_air")
           .attr("/faces", "hull_added_points", [](const L& o) { return o.pass.hull_added_points; })
           .show("hull_added").show_when([](const L& o) { return o.q_hull_views > 0; })
           .group("/points", [](const L& o) -> const auto& { return o.pass.points; }, qpoints_fields())

@@ -193,6 +193,30 @@ std::uint16_t point_code(const photo::Views& views, const Eigen::Vector3d& X, co
 
 }  // namespace
 
+std::int64_t drop_faces_in_sight(const tet::TetMesh& m, const SightLines& sight, const photo::Views& full,
+                                 const std::vector<std::int32_t>& face, std::vector<std::uint8_t>& crossing) {
+  std::vector<std::int32_t> verts;
+  for (std::size_t t = 0; t < face.size(); ++t)
+    if (crossing[t])
+      for (const auto v : m.face_vertices(face[t])) verts.push_back(v);
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  std::vector<std::uint8_t> is_free(verts.size(), 0);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::int64_t i = 0; i < static_cast<std::int64_t>(verts.size()); ++i)
+    is_free[i] = sight.free(full, m.vertex(verts[i]));
+  const auto free_vertex = [&](std::int32_t v) {
+    return is_free[std::lower_bound(verts.begin(), verts.end(), v) - verts.begin()] != 0;
+  };
+  std::int64_t dropped = 0;
+  for (std::size_t t = 0; t < face.size(); ++t) {
+    if (!crossing[t]) continue;
+    const auto fv = m.face_vertices(face[t]);
+    if (free_vertex(fv[0]) && free_vertex(fv[1]) && free_vertex(fv[2])) crossing[t] = 0, ++dropped;
+  }
+  return dropped;
+}
+
 std::int64_t best_point(const std::vector<std::uint16_t>& codes, int n, int radius) {
   // Window mean of the scores (samples only) around every consistent point.
   std::int64_t best = -1;
@@ -403,6 +427,8 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
     R.crossing[t] = opts.rule.crossing(nc, ns);
     if (R.crossing[t]) best_index[t] = best_point(w.codes, w.n);
   }
+
+  if (in.sight) R.sight_faces = drop_faces_in_sight(m, *in.sight, full, R.face, R.crossing);
 
   // Active cells.
   R.active.assign(m.num_cells(), 0);

@@ -21,6 +21,7 @@
 #include "common/photoconsist/hull.h"
 #include "common/photoconsist/occlusion.h"
 #include "common/photoconsist/options.h"
+#include "common/photoconsist/sight_lines.h"
 #include "common/qpoints.h"
 #include "common/tetmesh/tetmesh.h"
 
@@ -53,6 +54,7 @@ struct LevelResult {
   std::int64_t rescored_points = 0;  // cached points scored again (their hidden views changed)
   std::int64_t hull_dropped_points = 0;  // recheck_hull: cached samples now outside the hull
   std::int64_t hull_added_points = 0;    // recheck_hull: cached outside points now inside, scored
+  std::int64_t sight_faces = 0;          // faces with enough consistent points turned down: in seen air (sight_lines.h)
 };
 
 struct LevelInput {
@@ -73,6 +75,9 @@ struct LevelInput {
   // from Q, which grows per level): reused codes are checked against `hull` point by point,
   // samples now outside become outside, outside points now inside are scored.
   bool recheck_hull = false;
+  // Lines of sight of Q of the previous levels (sight_lines.h), or nullptr: crossing faces
+  // in the air they cross are not crossing.
+  const SightLines* sight = nullptr;
   bool keep_all = false;            // cache every tested face (inspection), not only faces of active cells
   // Orientation prior (photo.orientation_prior): the previous level's points of Q, or
   // nullptr. A lattice point with such points within prior_radius scores only their
@@ -95,6 +100,12 @@ LevelResult run_level(const LevelInput& in, const Options& opts);
 // highest score is a nearly random point of the band; the neighbourhood mean peaks where
 // the band is centred, on the surface. Ties: the lowest index.
 std::int64_t best_point(const std::vector<std::uint16_t>& codes, int n, int radius = 3);
+
+// Lines of sight (sight_lines.h): of the tested faces `face`, the crossing ones whose three
+// vertices are free (SightLines::free, full-resolution views) are made not crossing.
+// Returns how many.
+std::int64_t drop_faces_in_sight(const tet::TetMesh& m, const SightLines& sight, const photo::Views& full,
+                                 const std::vector<std::int32_t>& face, std::vector<std::uint8_t>& crossing);
 
 // Lattice coordinates of face f's vertices (face_vertices order).
 FaceLat face_lat(const tet::TetMesh& m, std::int32_t f);

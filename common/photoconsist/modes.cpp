@@ -110,6 +110,12 @@ LevelOutput run_level_mode(const ModeInput& in, Previous prev, int level, bool k
   li.prev = use_prev ? &prev.cache : nullptr;
   li.keep_all = keep_all;
   li.recheck_hull = hull.qh.views > 0;
+  // Lines of sight of Q of the previous levels (photo.sight_views).
+  SightLines sight;
+  if (opts.sight_views > 0 && prev.all.q.size() > 0) {
+    sight = SightLines(views, prev.all.q, opts.sight_margin_px, opts.sight_views);
+    li.sight = &sight;
+  }
   // The previous level's points of Q (photo.orientation_prior).
   QPoints prior;
   if (opts.orientation_prior && level > 0) {

@@ -81,6 +81,10 @@ struct Options {
   double level_cell_px = 4;   // photo.level_cell_px: image-pyramid level per mesh level (level_scale.h); 0 = full images
   double hull_margin_px = 2;  // photo.hull_margin_px: silhouettes dilated by this for the hull test
   double hull_core_px = 0;    // label.hull_core_px: lattice points this deep in every silhouette are skipped
+  // photo.sight_views, photo.sight_margin_px: from level 1 on, crossing faces in the air that
+  // the cameras of Q saw through are not crossing (sight_lines.h); 0 views = off.
+  int sight_views = 16;
+  double sight_margin_px = 28;
   // photo.q_hull*: in a scene without any silhouette, from level 1 on (and for the face
   // scores) the hull test uses silhouettes estimated from Q of the previous levels
   // (common/q_silhouettes.h, shared with label), grown by q_sil.margin_px (docs/colmap.md).
@@ -100,6 +104,8 @@ struct Options {
         {"photo.level_cell_px", &Options::level_cell_px},
         {"photo.hull_margin_px", &Options::hull_margin_px},
         {"label.hull_core_px", &Options::hull_core_px},
+        {"photo.sight_views", &Options::sight_views},
+        {"photo.sight_margin_px", &Options::sight_margin_px},
     });
   }
 };
