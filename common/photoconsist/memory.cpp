@@ -6,8 +6,9 @@ namespace {
 // The program, its libraries and the thread pools, before any data.
 constexpr double kFixedBytes = 64.0 * 1048576.0;
 // Per pixel of every view: RGB (3), the float grey image (4), the silhouette (1), the hull
-// test's dilated silhouette and its integral image (5), and the reduced pyramid level.
-constexpr double kBytesPerPixel = 14;
+// test's dilated silhouette and its integral image (5), the reduced pyramid level, and the
+// lines of sight's depth map (one float per 2 x 2 pixels).
+constexpr double kBytesPerPixel = 15;
 // Per face of the mesh, beyond the mesh arrays: a level pass holds each face's lattice codes,
 // the distinct lattice points with their scores, the face cache and, per crossing face, the
 // best oriented point with its cameras (up to two thirds of the faces cross at the finest
