@@ -195,24 +195,21 @@ std::uint16_t point_code(const photo::Views& views, const Eigen::Vector3d& X, co
 
 std::int64_t drop_faces_in_sight(const tet::TetMesh& m, const SightLines& sight, const photo::Views& full,
                                  const std::vector<std::int32_t>& face, std::vector<std::uint8_t>& crossing) {
+  // Per vertex of a crossing face: 1 free, 0 not; -1 for the other vertices (not tested).
+  std::vector<std::int8_t> is_free(m.num_vertices(), -1);
   std::vector<std::int32_t> verts;
   for (std::size_t t = 0; t < face.size(); ++t)
     if (crossing[t])
-      for (const auto v : m.face_vertices(face[t])) verts.push_back(v);
-  std::sort(verts.begin(), verts.end());
-  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-  std::vector<std::uint8_t> is_free(verts.size(), 0);
+      for (const auto v : m.face_vertices(face[t]))
+        if (is_free[v] < 0) is_free[v] = 0, verts.push_back(v);
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(verts.size()); ++i)
-    is_free[i] = sight.free(full, m.vertex(verts[i]));
-  const auto free_vertex = [&](std::int32_t v) {
-    return is_free[std::lower_bound(verts.begin(), verts.end(), v) - verts.begin()] != 0;
-  };
+    is_free[verts[i]] = sight.free(full, m.vertex(verts[i])) ? 1 : 0;
   std::int64_t dropped = 0;
   for (std::size_t t = 0; t < face.size(); ++t) {
     if (!crossing[t]) continue;
     const auto fv = m.face_vertices(face[t]);
-    if (free_vertex(fv[0]) && free_vertex(fv[1]) && free_vertex(fv[2])) crossing[t] = 0, ++dropped;
+    if (is_free[fv[0]] == 1 && is_free[fv[1]] == 1 && is_free[fv[2]] == 1) crossing[t] = 0, ++dropped;
   }
   return dropped;
 }
