@@ -89,13 +89,23 @@ ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat&
   ro.cull_back = true;  // closed outward mesh: back faces are always hidden behind front ones
   r.raster = rasterize(mesh, cam, ro);
   r.depth = r.raster.depth;
-  const cv::Mat covered = r.raster.tri >= 0;
-  r.sd = signed_distance_near(covered, sd_reach);
-  r.covered = cv::countNonZero(covered);
+  // Beyond sd_reach of the covered pixels everything is empty and sd is the far value: the
+  // distances and counts are computed in the covered box grown by more than the reach.
+  const int grow = sd_reach + 2;
+  const cv::Rect& box = r.raster.covered_box;
+  const cv::Rect roi = box.empty() ? cv::Rect()
+                                   : cv::Rect(box.x - grow, box.y - grow, box.width + 2 * grow, box.height + 2 * grow) &
+                                         cv::Rect(0, 0, cam.width, cam.height);
+  r.sd = cv::Mat(cam.height, cam.width, CV_32F, cv::Scalar(static_cast<float>(sd_reach) + 0.5f));
+  cv::Mat covered;
+  if (!roi.empty()) {
+    covered = r.raster.tri(roi) >= 0;
+    signed_distance_near(covered, sd_reach).copyTo(r.sd(roi));
+    r.covered = cv::countNonZero(covered);
+  }
   if (!sil.empty()) {
-    const cv::Mat truth = sil > 127;
-    r.agree = cv::countNonZero(covered & truth);
-    r.either = cv::countNonZero(covered | truth);
+    r.agree = roi.empty() ? 0 : cv::countNonZero(covered & (sil(roi) > 127));
+    r.either = r.covered + cv::countNonZero(sil > 127) - r.agree;
   }
   return r;
 }

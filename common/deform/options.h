@@ -14,7 +14,7 @@ class Params;
 namespace deform {
 
 struct Options {
-  int iterations = 19;            // deformation iterations
+  int iterations = 32;            // deformation iterations
   // smoothness (non-shrinking): tangential umbrella + small normal umbrella + normal bi-Laplacian
   double smooth_tangent = 0.5;    // weight of the umbrella's tangential component (mesh relaxation)
   double smooth_normal = 0.05;    // weight of the umbrella's normal component (shrinks: keep small)
@@ -34,7 +34,7 @@ struct Options {
   double photo_baseline_min_deg = 10;  // ... whose direction lies at least this far from the view's
   double photo_baseline_max_deg = 40;  // ... and at most this far
   int photo_coarsest_level = 4;   // the force starts on the images reduced this many times ...
-  int photo_level_iterations = 3; // ... spending this many iterations on each reduced level
+  int photo_level_iterations = 7; // ... spending this many iterations on each reduced level
   // step control and remeshing
   double max_move_px = 1.0;       // largest move of a vertex per iteration (pixels)
   double max_edge_px = 3.0;       // split edges longer than this in their finest view (pixels of mesh_level)

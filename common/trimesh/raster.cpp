@@ -66,6 +66,9 @@ Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) 
   }
   float* D = r.depth.ptr<float>();
   int* T = r.tri.ptr<int>();
+  struct {
+    std::int64_t x0, x1, y0, y1;
+  } cover{W, -1, H, -1};  // the samples the triangles cover
   for (std::size_t f = 0; f < m.F.size(); ++f) {
     int i0 = m.F[f][0], i1 = m.F[f][1], i2 = m.F[f][2];
     if (!(pr[i0].z > opt.znear && pr[i1].z > opt.znear && pr[i2].z > opt.znear)) {
@@ -108,15 +111,30 @@ Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) 
       C0 = iz0 - A * p0.pu - B * p0.pv;
       plane = true;
     };
+    // Each edge function is affine along a row: w(i) = w(ia) + (i - ia) d with d = -(y_b - y_a) kSub.
+    // The covered samples of a row are the span where all three are >= their ownership bias,
+    // solved exactly in integers (the same samples as testing each one).
+    const std::int64_t d0 = -(y2 - y1) * kSub, d1 = -(y0 - y2) * kSub, d2 = -(y1 - y0) * kSub;
     for (std::int64_t j = ja; j <= jb; ++j) {
-      const std::int64_t py = j * kSub;
-      for (std::int64_t i = ia; i <= ib; ++i) {
-        const std::int64_t px = i * kSub;
-        const std::int64_t w0 = edge(x1, y1, x2, y2, px, py);
-        const std::int64_t w1 = edge(x2, y2, x0, y0, px, py);
-        const std::int64_t w2 = edge(x0, y0, x1, y1, px, py);
-        if (w0 - b0 < 0 || w1 - b1 < 0 || w2 - b2 < 0) continue;
-        if (!plane) setup_plane();
+      const std::int64_t py = j * kSub, px = ia * kSub;
+      std::int64_t lo = ia, hi = ib;
+      const auto clip = [&](std::int64_t w, std::int64_t d) {  // keep the i with w + (i - ia) d >= 0
+        if (d > 0) {
+          if (w < 0) lo = std::max(lo, ia - floor_div(w, d));  // ia + ceil(-w / d)
+        } else if (d < 0) {
+          hi = w < 0 ? ia - 1 : std::min(hi, ia + floor_div(w, -d));
+        } else if (w < 0) {
+          hi = ia - 1;
+        }
+      };
+      clip(edge(x1, y1, x2, y2, px, py) - b0, d0);
+      clip(edge(x2, y2, x0, y0, px, py) - b1, d1);
+      clip(edge(x0, y0, x1, y1, px, py) - b2, d2);
+      if (lo > hi) continue;
+      if (!plane) setup_plane();
+      cover.x0 = std::min(cover.x0, lo), cover.x1 = std::max(cover.x1, hi);
+      cover.y0 = std::min(cover.y0, j), cover.y1 = std::max(cover.y1, j);
+      for (std::int64_t i = lo; i <= hi; ++i) {
         const double iz = A * static_cast<double>(i) + B * static_cast<double>(j) + C0;
         const float d = static_cast<float>(1.0 / iz);
         const std::size_t k = static_cast<std::size_t>(j) * W + i;
@@ -127,6 +145,9 @@ Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) 
       }
     }
   }
+  if (cover.x1 >= 0)
+    r.covered_box = cv::Rect(static_cast<int>(cover.x0), static_cast<int>(cover.y0), static_cast<int>(cover.x1 - cover.x0 + 1),
+                             static_cast<int>(cover.y1 - cover.y0 + 1));
   return r;
 }
 

@@ -37,6 +37,7 @@ struct Raster {
   cv::Mat depth;  // CV_32F, camera z of the nearest surface, +inf where empty
   cv::Mat tri;    // CV_32S, triangle id, -1 where empty
   std::int64_t skipped_near = 0;  // triangles dropped by znear
+  cv::Rect covered_box;           // the buffer samples a triangle covers (empty: none)
 
   // Continuous pixel coordinate of buffer sample (i, j).
   double sample_u(int i) const { return (i + 0.5) / ss - 0.5; }

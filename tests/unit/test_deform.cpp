@@ -286,6 +286,29 @@ TEST(DeformSilhouette, SignedDistanceNearIsExactWithinItsReach) {
   EXPECT_EQ(cv::countNonZero(all != -2.5f), 0);
 }
 
+TEST(DeformSilhouette, ViewRasterEqualsTheWholeImageComputation) {
+  // rasterize_view works in the covered box grown past the reach: the same signed distance and
+  // IoU counts as over the whole image, for a sphere inside the image and one cut by its border
+  const TriMesh s = synth::make_sphere(0.1);  // radius 1, 30 px at depth 10
+  Camera c;
+  c.K << 300, 0, 79.5, 0, 300, 59.5, 0, 0, 1;
+  c.width = 160;
+  c.height = 120;
+  for (const double shift : {0.0, 3.0}) {
+    c.t = Eigen::Vector3d(shift, 0, 10.0);
+    cv::Mat sil = cv::Mat::zeros(120, 160, CV_8U);
+    cv::circle(sil, cv::Point(70, 60), 25, cv::Scalar(255), -1);
+    const ViewRaster v = rasterize_view(s, c, sil, 8);
+    const cv::Mat covered = v.raster.tri >= 0;
+    ASSERT_GT(cv::countNonZero(covered), 500);
+    const cv::Mat whole = signed_distance_near(covered, 8);
+    EXPECT_EQ(cv::countNonZero(v.sd != whole), 0) << shift;
+    EXPECT_EQ(v.covered, cv::countNonZero(covered));
+    EXPECT_EQ(v.agree, cv::countNonZero(covered & sil));
+    EXPECT_EQ(v.either, cv::countNonZero(covered | sil));
+  }
+}
+
 TEST(DeformSmooth, BilaplacianDoesNotShrinkASphereButUmbrellaDoes) {
   const TriMesh s = synth::make_sphere(0.1);
   const Topology topo = build_topology(s.F, (int)s.nv());

@@ -206,3 +206,37 @@ TEST(Raster, SubsampledIsTheRasterOfThePyramidLevel) {
     EXPECT_GE(same, 0.99 * sub.width * sub.height) << level;
   }
 }
+
+TEST(Raster, CoveredBoxBoundsTheCoveredSamplesOfRandomTriangles) {
+  // random triangles (slivers, ones crossing the border, both orientations): every covered
+  // sample lies in covered_box and the box is tight; each triangle alone covers the same
+  // samples in the whole mesh's raster where it is the nearest (depth order by index here)
+  const Camera c = simple_cam(64, 48);
+  std::uint32_t seed = 12345;
+  const auto rnd = [&](double lo, double hi) {
+    seed = seed * 1664525u + 1013904223u;
+    return lo + (hi - lo) * (seed >> 8) / double(1u << 24);
+  };
+  for (int trial = 0; trial < 200; ++trial) {
+    TriMesh m;
+    for (int k = 0; k < 3; ++k) m.V.push_back(c.backproject(rnd(-10, 74), rnd(-10, 58), rnd(1, 3)));
+    m.F = {{0, 1, 2}};
+    const Raster r = rasterize(m, c);
+    int x0 = 64, x1 = -1, y0 = 48, y1 = -1, n = 0;
+    for (int v = 0; v < 48; ++v)
+      for (int u = 0; u < 64; ++u)
+        if (r.tri.at<int>(v, u) >= 0) x0 = std::min(x0, u), x1 = std::max(x1, u), y0 = std::min(y0, v), y1 = std::max(y1, v), ++n;
+    if (n == 0) {
+      EXPECT_TRUE(r.covered_box.empty());
+      continue;
+    }
+    EXPECT_EQ(r.covered_box, cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1)) << trial;
+    // the area of a non-degenerate triangle, give or take its outline
+    const Eigen::Vector2d a = c.project(m.V[0]), b = c.project(m.V[1]), d = c.project(m.V[2]);
+    const double area = 0.5 * std::abs((b - a).x() * (d - a).y() - (b - a).y() * (d - a).x());
+    const double perimeter = (b - a).norm() + (d - b).norm() + (a - d).norm();
+    if (x0 > 0 && y0 > 0 && x1 < 63 && y1 < 47) {
+      EXPECT_NEAR(n, area, perimeter + 2) << trial;
+    }
+  }
+}
