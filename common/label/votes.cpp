@@ -106,20 +106,29 @@ CellPlanes cell_planes(const MeshPoints& pts, const tet::Tet& t) {
   return c;
 }
 
-// Whether the ray origin + t dir (t >= 0) passes through the cell grown by `grow` (world
-// units; negative: shrunk) at some t > -grow.
-bool ray_meets(const CellPlanes& c, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double grow) {
-  double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+// Whether the ray origin + t dir (t >= 0) passes through the cell shrunk by `tol` (world
+// units), 2, or only through the cell grown by as much, 1, or neither, 0. Through the cell
+// grown by g (negative: shrunk): at some t > -g inside all four half-spaces.
+int ray_meets(const CellPlanes& c, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double tol) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double lo_in = -kInf, hi_in = kInf, lo_out = -kInf, hi_out = kInf;  // shrunk, grown
+  bool in = true, out = true;
   for (int k = 0; k < 4; ++k) {
-    const double s0 = c.n[k].dot(origin) - c.h[k] - grow, sd = c.n[k].dot(dir);
-    if (sd > 0)
-      hi = std::min(hi, -s0 / sd);
-    else if (sd < 0)
-      lo = std::max(lo, -s0 / sd);
-    else if (s0 > 0)
-      return false;
+    const double base = c.n[k].dot(origin) - c.h[k], sd = c.n[k].dot(dir);
+    const double s_in = base + tol, s_out = base - tol;
+    if (sd > 0) {
+      hi_in = std::min(hi_in, -s_in / sd);
+      hi_out = std::min(hi_out, -s_out / sd);
+    } else if (sd < 0) {
+      lo_in = std::max(lo_in, -s_in / sd);
+      lo_out = std::max(lo_out, -s_out / sd);
+    } else {
+      in = in && !(s_in > 0);
+      out = out && !(s_out > 0);
+    }
   }
-  return lo < hi && hi > -grow;
+  if (in && lo_in < hi_in && hi_in > tol) return 2;
+  return out && lo_out < hi_out && hi_out > -tol ? 1 : 0;
 }
 
 // The smallest depth in cam of a point of the box (at one of its corners); infinity for an
@@ -273,9 +282,10 @@ std::vector<std::int32_t> visibility_votes(const tet::TetMesh& m, const Scene& s
           for (int tu = tu0; tu <= tu1 && !deep; ++tu) deep = tile_depth[static_cast<std::size_t>(tw) * TW + tu] >= zmin - tol;
         const auto test = [&](std::int32_t r) {
           if (depth[r] < zmin - tol) return;  // the cell lies wholly behind the ray's origin
-          if (ray_meets(planes[i], origin[r], dir[r], -tol))
+          const int meets = ray_meets(planes[i], origin[r], dir[r], tol);
+          if (meets == 2)
             ++mine[cells[i]];
-          else if (ray_meets(planes[i], origin[r], dir[r], tol)) {
+          else if (meets == 1) {
             std::int32_t start = -1;
             tet::walk_ray(m, origin[r], dir[r], hits, std::numeric_limits<double>::infinity(), &start);
             for (const auto& h : hits) mine[cells[i]] += h.cell == cells[i];
