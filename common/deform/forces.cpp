@@ -96,7 +96,8 @@ ViewRaster rasterize_view(const TriMesh& mesh, const Camera& cam, const cv::Mat&
   const cv::Rect roi = box.empty() ? cv::Rect()
                                    : cv::Rect(box.x - grow, box.y - grow, box.width + 2 * grow, box.height + 2 * grow) &
                                          cv::Rect(0, 0, cam.width, cam.height);
-  r.sd = cv::Mat(cam.height, cam.width, CV_32F, cv::Scalar(static_cast<float>(sd_reach) + 0.5f));
+  r.sd.create(cam.height, cam.width, CV_32F);
+  std::fill_n(r.sd.ptr<float>(), static_cast<std::size_t>(cam.width) * cam.height, static_cast<float>(sd_reach) + 0.5f);
   cv::Mat covered;
   if (!roi.empty()) {
     covered = r.raster.tri(roi) >= 0;

@@ -35,8 +35,10 @@ Raster rasterize(const TriMesh& m, const Camera& cam, const RasterOptions& opt) 
   r.height = cam.height;
   r.ss = opt.supersample;
   const int W = cam.width * r.ss, H = cam.height * r.ss;
-  r.depth = cv::Mat(H, W, CV_32F, cv::Scalar(std::numeric_limits<float>::infinity()));
-  r.tri = cv::Mat(H, W, CV_32S, cv::Scalar(-1));
+  r.depth.create(H, W, CV_32F);
+  r.tri.create(H, W, CV_32S);
+  std::fill_n(r.depth.ptr<float>(), static_cast<std::size_t>(W) * H, std::numeric_limits<float>::infinity());
+  std::fill_n(r.tri.ptr<int>(), static_cast<std::size_t>(W) * H, -1);
   const std::size_t nv = m.V.size();
   // Per vertex, packed (one cache line per triangle corner): depth, its inverse, the
   // unsnapped sample-grid coordinates (for depth) and the snapped ones.
