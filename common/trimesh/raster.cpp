@@ -190,6 +190,7 @@ Raster subsample(const Raster& r, int level) {
   out.skipped_near = r.skipped_near;
   out.depth.create(out.height, out.width, CV_32F);
   out.tri.create(out.height, out.width, CV_32S);
+  int x0 = out.width, x1 = -1, y0 = out.height, y1 = -1;  // the covered samples' box
   for (int y = 0; y < out.height; ++y) {
     const float* d = r.depth.ptr<float>(y << level);
     const int* t = r.tri.ptr<int>(y << level);
@@ -198,8 +199,10 @@ Raster subsample(const Raster& r, int level) {
     for (int x = 0; x < out.width; ++x) {
       od[x] = d[x << level];
       ot[x] = t[x << level];
+      if (ot[x] >= 0) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
     }
   }
+  if (x1 >= 0) out.covered_box = cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
   return out;
 }
 

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "common/synth/objects.h"
 #include "common/trimesh/raster.h"
@@ -204,13 +205,17 @@ TEST(Raster, SubsampledIsTheRasterOfThePyramidLevel) {
     // only samples on a triangle's edge may differ (the vertices snap to the sample grid):
     // under one in a hundred with triangles this small
     EXPECT_GE(same, 0.99 * sub.width * sub.height) << level;
+    // the subsampled raster's covered box is its own samples' box
+    cv::Mat pts;
+    cv::findNonZero(sub.tri >= 0, pts);
+    EXPECT_EQ(sub.covered_box, cv::boundingRect(pts)) << level;
   }
 }
 
 TEST(Raster, CoveredBoxBoundsTheCoveredSamplesOfRandomTriangles) {
-  // random triangles (slivers, ones crossing the border, both orientations): every covered
-  // sample lies in covered_box and the box is tight; each triangle alone covers the same
-  // samples in the whole mesh's raster where it is the nearest (depth order by index here)
+  // random triangles (slivers, ones crossing the border, both orientations): covered_box is
+  // the covered samples' box, and a triangle inside the image covers its area give or take
+  // its outline
   const Camera c = simple_cam(64, 48);
   std::uint32_t seed = 12345;
   const auto rnd = [&](double lo, double hi) {
