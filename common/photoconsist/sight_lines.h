@@ -24,7 +24,6 @@ class SightLines {
   SightLines() = default;
   // q: the points of Q with their cameras; views: full resolution. min_views >= 1.
   SightLines(const photo::Views& views, const QPoints& q, double margin_px, int min_views);
-  bool empty() const { return maps_.empty(); }
   // Views in which X lies in front of the deepest point of Q seen there, by the margin.
   int free_views(const photo::Views& views, const Eigen::Vector3d& X) const;
   bool free(const photo::Views& views, const Eigen::Vector3d& X) const { return free_views(views, X) >= min_views_; }
