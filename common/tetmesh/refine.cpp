@@ -284,7 +284,18 @@ TetMesh refine(const TetMesh& old, const std::vector<std::uint8_t>& active, Refi
   for (std::int32_t n = 0; n < old_nodes; ++n)
     if (flag[n]) todo.push_back(n);
   st.red_active = static_cast<std::int64_t>(todo.size());
-  // green[n]: node n had split edges at its last check (must be re-checked every round)
+  // Room for the active nodes' children and a quarter more for the closure's (the arrays are
+  // large at fine levels: growing them by doubling copies and faults every page again).
+  const std::size_t grow = todo.size() + todo.size() / 4;
+  m.node_v.reserve(old_nodes + 8 * grow);
+  m.node_level.reserve(old_nodes + 8 * grow);
+  m.node_parent.reserve(old_nodes + 8 * grow);
+  m.node_child.reserve(old_nodes + 8 * grow);
+  m.node_cell.reserve(old_nodes + 8 * grow);
+  m.node_ncell.reserve(old_nodes + 8 * grow);
+  m.vlat.reserve(m.vlat.size() + 3 * 4 * grow);
+  m.vparent.reserve(m.vparent.size() + 2 * 4 * grow);
+  // green[n]: leaf n had split edges at its last check
   std::vector<std::uint8_t> green(old_nodes);
   for (std::int32_t n = 0; n < old_nodes; ++n) green[n] = old.node_ncell[n] > 1;
 
@@ -299,8 +310,18 @@ TetMesh refine(const TetMesh& old, const std::vector<std::uint8_t>& active, Refi
     for (std::int32_t n = 0; n < NN; ++n) {
       if (m.node_child[n] >= 0) continue;
       const Tet& v = m.node_v[n];
-      if (!green[n] && !R.touched[v[0]] && !R.touched[v[1]] && !R.touched[v[2]] && !R.touched[v[3]])
-        continue;
+      if (!R.touched[v[0]] && !R.touched[v[1]] && !R.touched[v[2]] && !R.touched[v[3]]) {
+        // A leaf passed its last check (or the previous refinement's closure). Every edge
+        // split since was an edge of a red-refined node, whose corners are all touched; so
+        // the leaf's answer can change only when a corner or, for a green leaf, one of its
+        // edge midpoints is touched.
+        if (!green[n]) continue;
+        std::int32_t mid[6];
+        R.mids(n, mid);
+        bool near = false;
+        for (int k = 0; k < 6; ++k) near = near || (mid[k] >= 0 && R.touched[mid[k]]);
+        if (!near) continue;
+      }
       bool split = false;
       flag[n] = static_cast<std::uint8_t>(R.needs_red(n, &split));
       green[n] = split;
@@ -315,12 +336,18 @@ TetMesh refine(const TetMesh& old, const std::vector<std::uint8_t>& active, Refi
   }
 
   lap("closure");
+  // After the closure green[n] is exact for every leaf: a leaf not checked in a round had no
+  // corner touched, so none of its edges was split in that round.
   // cells: every red-tree leaf, unsplit or green-split, in node order
   const std::int32_t NN = m.num_nodes();
   std::vector<std::int32_t> count(NN + 1, 0);
 #pragma omp parallel for schedule(static, 4096)
   for (std::int32_t n = 0; n < NN; ++n) {
     if (m.node_child[n] >= 0) continue;
+    if (!green[n]) {
+      count[n + 1] = 1;
+      continue;
+    }
     std::int32_t mid[6];
     R.mids(n, mid);
     Tet out[4];
@@ -340,10 +367,13 @@ TetMesh refine(const TetMesh& old, const std::vector<std::uint8_t>& active, Refi
 #pragma omp parallel for schedule(static, 4096) reduction(+ : green_nodes)
   for (std::int32_t n = 0; n < NN; ++n) {
     if (m.node_child[n] >= 0) continue;
-    std::int32_t mid[6];
-    R.mids(n, mid);
-    Tet out[4];
-    const int nc = green_split(m.node_v[n], mid, m.vlat, out);
+    Tet out[4] = {m.node_v[n]};
+    int nc = 1;
+    if (green[n]) {
+      std::int32_t mid[6];
+      R.mids(n, mid);
+      nc = green_split(m.node_v[n], mid, m.vlat, out);
+    }
     const std::int32_t first = count[n];
     m.node_cell[n] = first;
     m.node_ncell[n] = static_cast<std::uint8_t>(nc);
