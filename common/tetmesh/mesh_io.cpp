@@ -171,7 +171,12 @@ TetMesh read_mesh(const std::filesystem::path& file) {
       require(vertex_ok(v), name, ": /tree/vertices row ", n, " names vertex ", v, ", the mesh has ", NV);
   require(NC < (std::int64_t{1} << 29) && NV < (std::int64_t{1} << 31) && NN < (std::int64_t{1} << 31), name,
           ": too many cells, vertices or nodes for 32-bit indices");
-  build_faces(m);
+  m.cell_face = unflat<std::int32_t, 4>(f.read<std::int32_t>("/cell_faces", {NC, 4}).data);
+  try {
+    link_faces(m);
+  } catch (const Error& e) {
+    fail(name, ": /cell_faces: ", e.what());
+  }
   const auto NF = static_cast<std::int64_t>(m.num_faces());
   const auto fc = f.read<std::int32_t>("/face_cells", {NF, 2}).data;
   for (std::int64_t i = 0; i < NF; ++i)

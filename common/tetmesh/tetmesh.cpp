@@ -2,6 +2,7 @@
 #include "common/tetmesh/tetmesh.h"
 
 #include <algorithm>
+#include <array>
 #include <numeric>
 
 #include "common/error.h"
@@ -268,6 +269,56 @@ void build_faces(TetMesh& m) {
       if (same) fail("mesh is not conforming: cells ", h >> 2, " and ", p >> 2, " overlap across a face");
     }
   }
+}
+
+void link_faces(TetMesh& m) {
+  const std::int32_t N = m.num_cells();
+  const std::int64_t H = std::int64_t(N) * 4;
+  require(H < (std::int64_t{1} << 31), "mesh: too many cells (", N, ")");
+  require(m.cell_face.size() == std::size_t(N), "mesh: cell_face has the wrong size");
+  m.face_half.clear();
+  m.face_half.reserve(H / 2 + H / 8);
+  for (std::int32_t h = 0; h < H; ++h) {
+    const std::int32_t f = m.cell_face[h >> 2][h & 3], next = m.num_faces();
+    if (f == next) {
+      m.face_half.push_back({h, -1});
+      continue;
+    }
+    require(f >= 0 && f < next, "mesh: cell ", h >> 2, " names face ", f, " out of order (the next new face is ",
+            next, ")");
+    require(m.face_half[f][1] < 0, "mesh: face ", f, " is named by more than two cells");
+    m.face_half[f][1] = h;
+  }
+  const auto corners = [&](std::int32_t h) {
+    const Tet& t = m.cell_v[h >> 2];
+    const int j = h & 3;
+    return std::array<std::int32_t, 3>{t[kFace[j][0]], t[kFace[j][1]], t[kFace[j][2]]};
+  };
+  const auto sorted = [](std::array<std::int32_t, 3> k) {
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  const std::int32_t F = m.num_faces();
+  std::vector<std::array<std::int32_t, 3>> open;  // corners of the faces of one cell
+  for (std::int32_t f = 0; f < F; ++f)
+    if (m.face_half[f][1] < 0) open.push_back(sorted(corners(m.face_half[f][0])));
+  std::sort(open.begin(), open.end());
+  for (std::size_t i = 1; i < open.size(); ++i)
+    require(open[i] != open[i - 1], "mesh: two faces of one cell each have the same corners (", open[i][0], ", ",
+            open[i][1], ", ", open[i][2], ")");
+  std::int64_t bad = -1;
+#pragma omp parallel for schedule(static, 4096) reduction(max : bad)
+  for (std::int32_t f = 0; f < F; ++f) {
+    const std::int32_t h = m.face_half[f][0], p = m.face_half[f][1];
+    if (p < 0) continue;
+    const auto a = corners(h), b = corners(p);
+    // the same corners, in the opposite cyclic order
+    const bool opposite = (a[0] == b[0] && a[1] == b[2] && a[2] == b[1]) ||
+                          (a[0] == b[1] && a[1] == b[0] && a[2] == b[2]) ||
+                          (a[0] == b[2] && a[1] == b[1] && a[2] == b[0]);
+    if (!opposite || std::binary_search(open.begin(), open.end(), sorted(a))) bad = std::max<std::int64_t>(bad, f);
+  }
+  require(bad < 0, "mesh: face ", bad, " is not one triangle of two cells in opposite orientations (or also a face of one cell)");
 }
 
 void check_mesh(const TetMesh& m) {

@@ -163,6 +163,12 @@ TetMesh build_bcc(const Lattice& lat);
 // than two cells or twice with the same orientation (a non-conforming mesh).
 void build_faces(TetMesh& m);
 
+// Rebuilds face_half from a cell_face read from a file (linear, no sort), checking that it
+// names the faces build_faces would: numbered in the order of their first half-face, each
+// shared by at most two cells with the same corners in opposite orientations, and no
+// unshared face repeating another face's corners. Throws Error naming the first problem.
+void link_faces(TetMesh& m);
+
 // Full consistency check (used by tests and after reading a file): orientation, faces,
 // tree links. Throws Error naming the first problem.
 void check_mesh(const TetMesh& m);

@@ -72,6 +72,38 @@ TEST(TetMeshIo, RoundTrip) {
   fs::remove_all(dir);
 }
 
+TEST(TetMeshIo, LinkFacesNamesTheFacesBuildFacesMakesAndRejectsBadOnes) {
+  const TetMesh m = small_adaptive();
+  TetMesh r = m;
+  r.face_half.clear();
+  link_faces(r);
+  EXPECT_EQ(r.face_half, m.face_half);
+  // a face named out of order, by a third cell, or with other corners
+  std::int32_t c0 = -1, c1 = -1;  // two cells sharing a face
+  int j0 = 0;
+  for (std::int32_t f = 0; f < m.num_faces() && c0 < 0; ++f)
+    if (m.face_half[f][1] >= 0 && m.face_half[f][1] >> 2 != m.face_half[f][0] >> 2)
+      c0 = m.face_half[f][0] >> 2, j0 = m.face_half[f][0] & 3, c1 = m.face_half[f][1] >> 2;
+  ASSERT_GE(c0, 0);
+  {
+    TetMesh b = m;
+    b.cell_face[0][0] = m.num_faces() - 1;  // the last face named first
+    EXPECT_THROW(link_faces(b), tetmvs::Error);
+  }
+  {
+    TetMesh b = m;
+    const std::int32_t f = m.cell_face[c0][j0];
+    b.cell_face[c1 + 1 < m.num_cells() ? m.num_cells() - 1 : 0][0] = f;  // a third half-face
+    EXPECT_THROW(link_faces(b), tetmvs::Error);
+  }
+  {
+    TetMesh b = m;
+    std::swap(b.cell_v[c1][0], b.cell_v[c1][1]);  // c1's corners reordered: the faces it names
+    std::swap(b.cell_v[c1][2], b.cell_v[c1][3]);  // no longer have its corners
+    EXPECT_THROW(link_faces(b), tetmvs::Error);
+  }
+}
+
 TEST(TetMeshIo, VtuAndSlice) {
   const TetMesh m = small_adaptive();
   const fs::path dir = fs::temp_directory_path() / "tetmvs_test_tetmesh_vtu";
