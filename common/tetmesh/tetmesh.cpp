@@ -318,7 +318,7 @@ void link_faces(TetMesh& m) {
                           (a[0] == b[2] && a[1] == b[1] && a[2] == b[0]);
     if (!opposite || std::binary_search(open.begin(), open.end(), sorted(a))) bad = std::max<std::int64_t>(bad, f);
   }
-  require(bad < 0, "mesh: face ", bad, " is not one triangle of two cells in opposite orientations (or also a face of one cell)");
+  require(bad < 0, "mesh: face ", bad, " is not the same triangle in opposite orientations in its two cells, or a face of one cell repeats its corners");
 }
 
 void check_mesh(const TetMesh& m) {
