@@ -286,13 +286,13 @@ TetMesh refine(const TetMesh& old, const std::vector<std::uint8_t>& active, Refi
   st.red_active = static_cast<std::int64_t>(todo.size());
   // Room for the active nodes' children and a quarter more for the closure's (the arrays are
   // large at fine levels: growing them by doubling copies and faults every page again).
-  const std::size_t grow = todo.size() + todo.size() / 4;
-  m.node_v.reserve(old_nodes + 8 * grow);
-  m.node_level.reserve(old_nodes + 8 * grow);
-  m.node_parent.reserve(old_nodes + 8 * grow);
-  m.node_child.reserve(old_nodes + 8 * grow);
-  m.node_cell.reserve(old_nodes + 8 * grow);
-  m.node_ncell.reserve(old_nodes + 8 * grow);
+  const std::size_t grow = todo.size() + todo.size() / 4, nodes = old_nodes + 8 * grow;
+  m.node_v.reserve(nodes);
+  m.node_level.reserve(nodes);
+  m.node_parent.reserve(nodes);
+  m.node_child.reserve(nodes);
+  m.node_cell.reserve(nodes);
+  m.node_ncell.reserve(nodes);
   m.vlat.reserve(m.vlat.size() + 3 * 4 * grow);
   m.vparent.reserve(m.vparent.size() + 2 * 4 * grow);
   // green[n]: leaf n had split edges at its last check

@@ -25,12 +25,7 @@ int TetMesh::max_cell_level() const {
   return L;
 }
 
-std::array<std::int32_t, 3> TetMesh::face_vertices(std::int32_t f) const {
-  const std::int32_t h = face_half[f][0];
-  const Tet& t = cell_v[h >> 2];
-  const int j = h & 3;
-  return {t[kFace[j][0]], t[kFace[j][1]], t[kFace[j][2]]};
-}
+std::array<std::int32_t, 3> TetMesh::face_vertices(std::int32_t f) const { return half_face_vertices(face_half[f][0]); }
 
 std::int32_t TetMesh::neighbour(std::int32_t c, int j) const {
   const std::int32_t f = cell_face[c][j];
@@ -202,9 +197,7 @@ void build_faces(TetMesh& m) {
   // bucket half-faces by their smallest vertex (counting sort)
   std::vector<std::int32_t> start(NV + 1, 0);
   auto sorted_face = [&](std::int32_t h) {
-    const Tet& t = m.cell_v[h >> 2];
-    const int j = h & 3;
-    std::array<std::int32_t, 3> k{t[kFace[j][0]], t[kFace[j][1]], t[kFace[j][2]]};
+    std::array<std::int32_t, 3> k = m.half_face_vertices(h);
     if (k[0] > k[1]) std::swap(k[0], k[1]);
     if (k[1] > k[2]) std::swap(k[1], k[2]);
     if (k[0] > k[1]) std::swap(k[0], k[1]);
@@ -258,14 +251,9 @@ void build_faces(TetMesh& m) {
     if (p >= 0) {
       m.cell_face[p >> 2][p & 3] = f;
       // the two cells must see the face with opposite orientations
-      const Tet& t = m.cell_v[h >> 2];
-      const Tet& u = m.cell_v[p >> 2];
-      const int j = h & 3, k = p & 3;
-      const std::int32_t a0 = t[kFace[j][0]], a1 = t[kFace[j][1]], a2 = t[kFace[j][2]];
-      const std::int32_t b0 = u[kFace[k][0]], b1 = u[kFace[k][1]], b2 = u[kFace[k][2]];
-      (void)a2;
+      const auto a = m.half_face_vertices(h), b = m.half_face_vertices(p);
       // same cyclic order => same orientation => overlapping cells
-      const bool same = (a0 == b0 && a1 == b1) || (a0 == b1 && a1 == b2) || (a0 == b2 && a1 == b0);
+      const bool same = (a[0] == b[0] && a[1] == b[1]) || (a[0] == b[1] && a[1] == b[2]) || (a[0] == b[2] && a[1] == b[0]);
       if (same) fail("mesh is not conforming: cells ", h >> 2, " and ", p >> 2, " overlap across a face");
     }
   }
@@ -289,11 +277,6 @@ void link_faces(TetMesh& m) {
     require(m.face_half[f][1] < 0, "mesh: face ", f, " is named by more than two cells");
     m.face_half[f][1] = h;
   }
-  const auto corners = [&](std::int32_t h) {
-    const Tet& t = m.cell_v[h >> 2];
-    const int j = h & 3;
-    return std::array<std::int32_t, 3>{t[kFace[j][0]], t[kFace[j][1]], t[kFace[j][2]]};
-  };
   const auto sorted = [](std::array<std::int32_t, 3> k) {
     std::sort(k.begin(), k.end());
     return k;
@@ -301,7 +284,7 @@ void link_faces(TetMesh& m) {
   const std::int32_t F = m.num_faces();
   std::vector<std::array<std::int32_t, 3>> open;  // corners of the faces of one cell
   for (std::int32_t f = 0; f < F; ++f)
-    if (m.face_half[f][1] < 0) open.push_back(sorted(corners(m.face_half[f][0])));
+    if (m.face_half[f][1] < 0) open.push_back(sorted(m.face_vertices(f)));
   std::sort(open.begin(), open.end());
   for (std::size_t i = 1; i < open.size(); ++i)
     require(open[i] != open[i - 1], "mesh: two faces of one cell each have the same corners (", open[i][0], ", ",
@@ -311,7 +294,7 @@ void link_faces(TetMesh& m) {
   for (std::int32_t f = 0; f < F; ++f) {
     const std::int32_t h = m.face_half[f][0], p = m.face_half[f][1];
     if (p < 0) continue;
-    const auto a = corners(h), b = corners(p);
+    const auto a = m.half_face_vertices(h), b = m.half_face_vertices(p);
     // the same corners, in the opposite cyclic order
     const bool opposite = (a[0] == b[0] && a[1] == b[2] && a[2] == b[1]) ||
                           (a[0] == b[1] && a[1] == b[0] && a[2] == b[2]) ||

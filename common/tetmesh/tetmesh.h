@@ -133,6 +133,12 @@ struct TetMesh {
   bool face_on_boundary(std::int32_t f) const { return face_half[f][1] < 0; }
   // The face's vertices, ordered with the normal from its first cell to its second.
   std::array<std::int32_t, 3> face_vertices(std::int32_t f) const;
+  // Vertices of half-face h (cell h / 4, local face h % 4) in the order kFace gives.
+  std::array<std::int32_t, 3> half_face_vertices(std::int32_t h) const {
+    const Tet& t = cell_v[h >> 2];
+    const int j = h & 3;
+    return {t[kFace[j][0]], t[kFace[j][1]], t[kFace[j][2]]};
+  }
   // The cell across local face j of cell c (-1 on the boundary).
   std::int32_t neighbour(std::int32_t c, int j) const;
 
