@@ -28,7 +28,15 @@ HullTest::HullTest(const photo::Views& views, const std::vector<cv::Mat>& sil, d
     else
       d = sil[v];
     idx_.push_back(v);
-    dilated_.push_back(d);
+    const std::size_t words = (static_cast<std::size_t>(d.cols) + 63) / 64;
+    std::vector<std::uint64_t> bits(words * d.rows, 0);
+    for (int y = 0; y < d.rows; ++y) {
+      const std::uint8_t* row = d.ptr<std::uint8_t>(y);
+      for (int x = 0; x < d.cols; ++x)
+        if (row[x]) bits[y * words + (x >> 6)] |= std::uint64_t{1} << (x & 63);
+    }
+    bits_.push_back(std::move(bits));
+    words_.push_back(words);
     cv::Mat bin = d != 0, ii;
     bin.convertTo(bin, CV_8U, 1.0 / 255.0);
     cv::integral(bin, ii, CV_32S);
@@ -65,7 +73,7 @@ bool HullTest::pixel_of(std::size_t s, const Eigen::Vector3d& h, int& x, int& y)
 bool HullTest::inside(const Eigen::Vector3d& X) const {
   for (std::size_t s = 0; s < idx_.size(); ++s) {
     int x, y;
-    if (pixel(s, X, x, y) && dilated_[s].at<std::uint8_t>(y, x) == 0) return false;
+    if (pixel(s, X, x, y) && !in_dilated(s, x, y)) return false;
   }
   return true;
 }
@@ -85,6 +93,8 @@ bool HullTest::triangle_outside(const Eigen::Vector3d& a, const Eigen::Vector3d&
     const long x0 = std::lround(std::floor(u0 - 0.5)), x1 = std::lround(std::ceil(u1 + 0.5));
     const long y0 = std::lround(std::floor(w0 - 0.5)), y1 = std::lround(std::ceil(w1 + 0.5));
     if (x0 < 0 || y0 < 0 || x1 >= v.width || y1 >= v.height) continue;  // not all inside the image
+    // a silhouette pixel at the box's centre: no need to count them
+    if (in_dilated(s, static_cast<int>((x0 + x1) / 2), static_cast<int>((y0 + y1) / 2))) continue;
     const cv::Mat& ii = integral_[s];
     const int X0 = static_cast<int>(x0), X1 = static_cast<int>(x1) + 1, Y0 = static_cast<int>(y0),
               Y1 = static_cast<int>(y1) + 1;

@@ -6,6 +6,7 @@
 // not an outline: common/silhouette/border.h.)
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -26,7 +27,7 @@ class HullTest {
   bool inside_projected(const Projection& h_of) const {
     for (std::size_t s = 0; s < idx_.size(); ++s) {
       int x, y;
-      if (pixel_of(s, h_of(idx_[s]), x, y) && dilated_[s].at<std::uint8_t>(y, x) == 0) return false;
+      if (pixel_of(s, h_of(idx_[s]), x, y) && !in_dilated(s, x, y)) return false;
     }
     return true;
   }
@@ -47,9 +48,17 @@ class HullTest {
   // that camera or projects outside its image.
   bool pixel(std::size_t s, const Eigen::Vector3d& X, int& x, int& y) const;
   bool pixel_of(std::size_t s, const Eigen::Vector3d& h, int& x, int& y) const;
+  // Whether pixel (x, y) of the s-th view with a silhouette is in its dilated silhouette.
+  bool in_dilated(std::size_t s, int x, int y) const {
+    const std::uint64_t word = bits_[s][static_cast<std::size_t>(y) * words_[s] + (static_cast<unsigned>(x) >> 6)];
+    return (word >> (x & 63)) & 1u;
+  }
   const photo::Views* views_ = nullptr;
   std::vector<int> idx_;          // views with a silhouette
-  std::vector<cv::Mat> dilated_;  // their dilated silhouettes
+  // their dilated silhouettes, a bit per pixel (rows of words_ 64-bit words): the lookups of
+  // 48 views stay in the cache, where bytes per pixel would not
+  std::vector<std::vector<std::uint64_t>> bits_;
+  std::vector<std::size_t> words_;
   std::vector<cv::Mat> integral_; // integral images (CV_32S) of dilated_ != 0
   std::vector<cv::Mat> core_;     // distance to the silhouette boundary >= core_px (CV_8U), if core_px > 0
 };

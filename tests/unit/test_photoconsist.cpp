@@ -824,3 +824,53 @@ TEST(PhotoconsistScene, OcclusionGivesQCamerasThatSeeIt) {
   EXPECT_GT(before, 0.1);
   EXPECT_LT(after, 0.5 * before);
 }
+
+// The hull test keeps its silhouettes a bit per pixel and answers a triangle from the pixel
+// at its box's centre when that one is inside: on a ring-shaped silhouette (whose hole puts
+// box centres outside while box corners are inside) both tests agree with a scan of the
+// silhouette's pixels.
+TEST(PhotoconsistHull, PackedSilhouetteAgreesWithAPixelScan) {
+  const int W = 131, H = 97;  // a width that is not a multiple of 64
+  const Camera cam = tetmvs::testing::look_at(Eigen::Vector3d(0, 0, -5), Eigen::Vector3d(0, 0, 0), 100, W, H);
+  cv::Mat sil(H, W, CV_8U, cv::Scalar(0));
+  cv::circle(sil, cv::Point(65, 48), 40, cv::Scalar(255), cv::FILLED);
+  cv::circle(sil, cv::Point(65, 48), 15, cv::Scalar(0), cv::FILLED);
+  sil.at<std::uint8_t>(0, 130) = 255;  // the last pixel of the first row
+  const photo::Views views({cam}, {cv::Mat(H, W, CV_32F, cv::Scalar(0.5))}, {sil});
+  const pc::HullTest hull(views, {sil}, 0);
+  const auto in_sil = [&](int x, int y) { return x >= 0 && y >= 0 && x < W && y < H && sil.at<std::uint8_t>(y, x) != 0; };
+  const auto world = [&](double u, double v) {  // the point of pixel (u, v) at depth 5 (the plane z = 0)
+    return Eigen::Vector3d(cam.R.transpose() * (cam.K.inverse() * Eigen::Vector3d(u, v, 1) * 5) + cam.centre());
+  };
+  std::uint64_t rng = 7;
+  const auto uniform = [&](double lo, double hi) {
+    rng = rng * 6364136223846793005ULL + 1442695040888963407ULL;
+    return lo + (hi - lo) * static_cast<double>(rng >> 11) / 9007199254740992.0;
+  };
+  int points_out = 0, triangles_out = 0, centre_out_corner_in = 0;
+  for (int t = 0; t < 4000; ++t) {
+    const double u = uniform(2, W - 3), v = uniform(2, H - 3);
+    const bool in = hull.inside(world(u, v));
+    EXPECT_EQ(in, in_sil(static_cast<int>(std::lround(u)), static_cast<int>(std::lround(v)))) << u << " " << v;
+    points_out += !in;
+    // a triangle around (u, v) of up to 12 pixels, wholly inside the image
+    double us[3], vs[3];
+    for (int k = 0; k < 3; ++k) us[k] = std::clamp(u + uniform(-12, 12), 1.0, W - 2.0), vs[k] = std::clamp(v + uniform(-12, 12), 1.0, H - 2.0);
+    const long x0 = std::lround(std::floor(*std::min_element(us, us + 3) - 0.5)), x1 = std::lround(std::ceil(*std::max_element(us, us + 3) + 0.5));
+    const long y0 = std::lround(std::floor(*std::min_element(vs, vs + 3) - 0.5)), y1 = std::lround(std::ceil(*std::max_element(vs, vs + 3) + 0.5));
+    bool any = false;
+    for (long y = y0; y <= y1; ++y)
+      for (long x = x0; x <= x1; ++x) any = any || in_sil(static_cast<int>(x), static_cast<int>(y));
+    const bool out = hull.triangle_outside(world(us[0], vs[0]), world(us[1], vs[1]), world(us[2], vs[2]));
+    if (x0 >= 0 && y0 >= 0 && x1 < W && y1 < H) {
+      EXPECT_EQ(out, !any) << t;
+      centre_out_corner_in += any && !in_sil(static_cast<int>((x0 + x1) / 2), static_cast<int>((y0 + y1) / 2));
+    }
+    triangles_out += out;
+  }
+  EXPECT_TRUE(hull.inside(world(130, 0)));
+  EXPECT_FALSE(hull.inside(world(129, 0)));
+  EXPECT_GT(points_out, 400);
+  EXPECT_GT(triangles_out, 100);
+  EXPECT_GT(centre_out_corner_in, 50);  // the pixel scan behind the centre's shortcut is exercised
+}
