@@ -37,6 +37,12 @@ struct Options {
   // large k (wide baselines on dense rings) degrade gracefully on sparse camera sets.
   // Set by photoconsist for its lattice points (photo.point_k); off by default.
   bool adaptive_k = false;
+  // Samples of a patch that fall outside a view's silhouette take the mean of the samples
+  // inside it, and a view with fewer than half inside is not used: the outline's edge, which
+  // neighbouring views see at nearly the same place, would otherwise correlate at depths
+  // inside the surface. Set by photoconsist for its lattice points (photo.point_outline_fill);
+  // off by default.
+  bool outline_fill = false;
 
   // k' = max(k/2, 3): each camera's score is the mean of its best k' NCCs.
   // k', the partners whose NCCs make a reference's score: 0 is the paper's max(k/2, 3);

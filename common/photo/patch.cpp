@@ -404,13 +404,45 @@ void finish(int used, int kp, int mu, int rows, const Options& opts, Scratch& s,
   for (int i = 0; i < used; ++i) out.views[i] = s.views[i];
 }
 
+// Options::outline_fill on the samples of a patch (line along b1, or grid along b1 and b2,
+// with `rows` rows) centred at homogeneous projection h0 of the view, in col[q L]: the
+// samples whose nearest pixel lies outside the silhouette take the mean of the others.
+// False when fewer than half lie inside. A patch whose centre lies farther inside than the
+// patch's extent is left as it is without a look at its samples.
+bool fill_outside_silhouette(const View& view, const Eigen::Vector3d& h0, const Eigen::Vector3d& b1,
+                             const Eigen::Vector3d& b2, int mu, int rows, float* col, int L) {
+  if (view.inside_px.empty()) return true;
+  const GridAxes g = grid_axes(h0, b1, b2);
+  const int c = mu / 2, cr = rows / 2;
+  const double reach = c * (std::abs(g.du1) + std::abs(g.dv1)) + cr * (std::abs(g.du2) + std::abs(g.dv2));
+  const int x0 = static_cast<int>(std::lround(g.u0)), y0 = static_cast<int>(std::lround(g.v0));
+  if (x0 >= 0 && y0 >= 0 && x0 < view.width && y0 < view.height && view.inside_px.at<std::uint8_t>(y0, x0) > reach + 1)
+    return true;
+  bool outside[kMaxMu * kMaxMu];
+  double sum = 0;
+  int in = 0;
+  for (int j = 0, q = 0; j < rows; ++j)
+    for (int i = 0; i < mu; ++i, ++q) {
+      outside[q] = !view.in_silhouette(g.u0 + (i - c) * g.du1 + (j - cr) * g.du2, g.v0 + (i - c) * g.dv1 + (j - cr) * g.dv2);
+      if (!outside[q]) sum += col[static_cast<std::size_t>(q) * L], ++in;
+    }
+  if (2 * in < mu * rows) return false;
+  const float mean = static_cast<float>(sum / in);
+  for (int q = 0; q < mu * rows; ++q)
+    if (outside[q]) col[static_cast<std::size_t>(q) * L] = mean;
+  return true;
+}
+
 // Samples the patch (line along d1, or grid along d1 and d2: world steps of one sample)
-// centred at homogeneous projection h0 of view v into column `slot` of the samples.
+// centred at homogeneous projection h0 of view v into column `slot` of the samples; with
+// `fill`, Options::outline_fill.
 bool sample_patch(const View& view, const Eigen::Vector3d& h0, const Eigen::Vector3d& d1, const Eigen::Vector3d* d2,
-                  int mu, Scratch& s, int slot) {
+                  int mu, bool fill, Scratch& s, int slot) {
   float* S = s.samples.data() + slot;
   const Eigen::Vector3d b1 = view.project_dir(d1);
-  return d2 ? sample_grid(view, h0, b1, view.project_dir(*d2), mu, S, s.lanes) : sample_line(view, h0, b1, mu, S, s.lanes);
+  const Eigen::Vector3d b2 = d2 ? view.project_dir(*d2) : Eigen::Vector3d::Zero();
+  if (!(d2 ? sample_grid(view, h0, b1, b2, mu, S, s.lanes) : sample_line(view, h0, b1, mu, S, s.lanes))) return false;
+  return !fill || fill_outside_silhouette(view, h0, b1, b2, mu, d2 ? mu : 1, S, s.lanes);
 }
 
 }  // namespace
@@ -441,7 +473,7 @@ void score_prepared(const Views& views, const Eigen::Vector3d& n, const Eigen::V
       rest_sorted = true;
     }
     const int v = s.cand[ci].view;
-    if (!sample_patch(views[v], s.cache[v].h0, d1, a2 ? &d2 : nullptr, mu, s, used)) continue;
+    if (!sample_patch(views[v], s.cache[v].h0, d1, a2 ? &d2 : nullptr, mu, opts.outline_fill, s, used)) continue;
     s.views[used++] = v;
   }
   if (used < need) return;
@@ -459,7 +491,7 @@ void score_in_views(const Views& views, const Eigen::Vector3d& X, const Eigen::V
   const Eigen::Vector3d d2 = a2 ? Eigen::Vector3d(*a2 * spacing) : Eigen::Vector3d::Zero();
   for (int t = 0; t < count; ++t) {
     const View& view = views[view_list[t]];
-    if (!sample_patch(view, view.project_h(X), d1, a2 ? &d2 : nullptr, mu, s, t)) return;
+    if (!sample_patch(view, view.project_h(X), d1, a2 ? &d2 : nullptr, mu, opts.outline_fill, s, t)) return;
     s.views[t] = view_list[t];
   }
   out.spacing = static_cast<float>(spacing);
@@ -508,7 +540,7 @@ int agreeing_views(const Views& views, const Eigen::Vector3d& X, const Eigen::Ve
   // the reference first (slot 0), then the other candidates
   int used = 0, ref_slot = -1;
   const View& rv = views[ref];
-  if (ref >= 0 && ref < views.size() && detail::sample_patch(rv, rv.project_h(X), d1, a2 ? &d2 : nullptr, mu, s, 0)) {
+  if (ref >= 0 && ref < views.size() && detail::sample_patch(rv, rv.project_h(X), d1, a2 ? &d2 : nullptr, mu, o.outline_fill, s, 0)) {
     s.views[0] = ref;
     used = 1;
     ref_slot = 0;
@@ -517,7 +549,7 @@ int agreeing_views(const Views& views, const Eigen::Vector3d& X, const Eigen::Ve
   for (int ci = 0; ci < top; ++ci) {
     const int v = s.cand[ci].view;
     if (v == ref) continue;
-    if (!detail::sample_patch(views[v], s.cache[v].h0, d1, a2 ? &d2 : nullptr, mu, s, used)) continue;
+    if (!detail::sample_patch(views[v], s.cache[v].h0, d1, a2 ? &d2 : nullptr, mu, o.outline_fill, s, used)) continue;
     s.views[used++] = v;
   }
   float* S = s.samples.data();

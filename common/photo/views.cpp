@@ -8,6 +8,15 @@
 
 namespace tetmvs::photo {
 
+namespace {
+cv::Mat distance_inside(const cv::Mat& sil) {
+  cv::Mat d, out;
+  cv::distanceTransform(sil, d, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  d.convertTo(out, CV_8U);  // saturating: at most 255
+  return out;
+}
+}  // namespace
+
 bool View::in_silhouette(double u, double v) const {
   if (sil.empty()) return true;
   const int x = static_cast<int>(std::lround(u)), y = static_cast<int>(std::lround(v));
@@ -47,6 +56,7 @@ Views::Views(const std::vector<Camera>& cams, const std::vector<cv::Mat>& grey,
               "photo::Views: silhouette of view ", i, " (", c.name, ") must be CV_8U of size ", g.cols,
               "x", g.rows);
       v.sil = sil[i];
+      v.inside_px = distance_inside(v.sil);
       has_sil_ = true;
     }
   }
@@ -75,6 +85,7 @@ Views Views::reduced(int level) const {
         for (int x = 0; x < g.cols; ++x)
           m.at<unsigned char>(y, x) = v.sil.at<unsigned char>(std::min(y * f, v.sil.rows - 1), std::min(x * f, v.sil.cols - 1));
       v.sil = m;
+      v.inside_px = distance_inside(v.sil);
     }
     v.grey = g;
     v.width = g.cols;

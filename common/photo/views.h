@@ -18,6 +18,10 @@ struct View {
   double inv_focal = 0;           // 1 / focal in pixels: pixel footprint at depth d = d * inv_focal
   cv::Mat grey;                   // CV_32F in [0, 1] (shallow copy of the caller's image)
   cv::Mat sil;                    // CV_8U, 255 = object; empty when the view has none
+  // CV_8U: per silhouette pixel, its distance in pixels to the nearest pixel outside the
+  // silhouette (capped at 255; the image border is not an outline), 0 outside; empty
+  // without a silhouette. Tells a patch that lies wholly inside (Options::outline_fill).
+  cv::Mat inside_px;
   int width = 0, height = 0;
 
   // Homogeneous image point of X: (u w, v w, w) with w = depth.

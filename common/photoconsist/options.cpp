@@ -38,6 +38,7 @@ photo::Options PointMeasure::applied_to(const photo::Options& face) const {
   line.adaptive_k = true;
   line.partners = partners;
   line.detrend = detrend;
+  line.outline_fill = outline_fill;
   return line;
 }
 
@@ -72,6 +73,7 @@ std::string Options::cache_signature() const {
      << " min_std=" << line.min_std << " sil=" << line.use_silhouettes << " adaptive_k=" << line.adaptive_k << " lattice_px=" << lattice_px
      << " hull_margin_px=" << hull_margin_px;
   if (line.detrend) os << " detrend=1";
+  if (line.outline_fill) os << " outline_fill=1";
   if (line.partners > 0) os << " partners=" << line.partners;
   if (orientation_prior) os << " orientation_prior=1";
   if (line.point_grid) os << " grid=1";

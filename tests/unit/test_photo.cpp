@@ -615,3 +615,45 @@ TEST(PatchKernel, BitIdenticalToTheStraightforwardFormulation) {
   std::printf("kernel vs reference: %d of %d patches defined\n", defined, total);
   EXPECT_GT(defined, total / 5);
 }
+
+// Options::outline_fill: two views with the same camera and silhouette (the left half of
+// the image), the same texture inside it and anti-correlated backgrounds. A patch across the
+// outline correlates perfectly with the fill (its outside samples take its inside mean) and
+// poorly without; one mostly outside is not scored; one wholly inside is scored as without.
+TEST(PhotoPatch, OutlineFillTakesOnlyTheSamplesInsideTheSilhouette) {
+  const int W = 64, H = 64;
+  const Camera cam = tetmvs::testing::look_at(Eigen::Vector3d(0, 0, -5), Eigen::Vector3d(0, 0, 0), 100, W, H);
+  cv::Mat sil(H, W, CV_8U, cv::Scalar(0));
+  sil(cv::Rect(0, 0, 32, H)).setTo(255);
+  cv::Mat a(H, W, CV_32F), b(H, W, CV_32F);
+  cv::RNG rng(3);
+  rng.fill(a, cv::RNG::UNIFORM, 0.1, 0.9);
+  rng.fill(b, cv::RNG::UNIFORM, 0.1, 0.9);
+  a(cv::Rect(0, 0, 32, H)).copyTo(b(cv::Rect(0, 0, 32, H)));  // the same object
+  for (int y = 0; y < H; ++y)
+    for (int x = 32; x < W; ++x) b.at<float>(y, x) = 1.f - a.at<float>(y, x);  // backgrounds anti-correlated
+  const Views views({cam, cam}, {a, b}, {sil, sil});
+  const auto world = [&](double u, double v) {  // the point of pixel (u, v) on the plane z = 0 (depth 5)
+    return Eigen::Vector3d(cam.R.transpose() * (cam.K.inverse() * Eigen::Vector3d(u, v, 1) * 5) + cam.centre());
+  };
+  const int both[2] = {0, 1};
+  const Eigen::Vector3d a1(1, 0, 0), a2(0, 1, 0);
+  const auto score = [&](double u, bool fill) {
+    Options o;
+    o.outline_fill = fill;
+    Scratch s;
+    PatchResult r;
+    detail::score_in_views(views, world(u, 32), a1, &a2, 0.05, both, 2, 1, o, s, r);  // 5 x 5 samples a pixel apart
+    return r;
+  };
+  // columns 29..33, of which 29..31 lie inside: 15 of 25 samples
+  const PatchResult across = score(31, true);
+  ASSERT_TRUE(across.valid());
+  EXPECT_NEAR(across.score, 1.f, 1e-5f);
+  EXPECT_LT(score(31, false).score, 0.8f);
+  EXPECT_TRUE(score(31, false).valid());
+  EXPECT_FALSE(score(33, true).valid());  // columns 31..35: 5 of 25 inside
+  EXPECT_TRUE(score(33, false).valid());
+  EXPECT_EQ(score(12, true).score, score(12, false).score);  // wholly inside: untouched
+  EXPECT_LT(score(12, true).score, 1.f + 1e-6f);
+}
