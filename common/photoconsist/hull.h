@@ -59,7 +59,7 @@ class HullTest {
   // 48 views stay in the cache, where bytes per pixel would not
   std::vector<std::vector<std::uint64_t>> bits_;
   std::vector<std::size_t> words_;
-  std::vector<cv::Mat> integral_; // integral images (CV_32S) of dilated_ != 0
+  std::vector<cv::Mat> integral_; // integral images (CV_32S) of the dilated silhouettes
   std::vector<cv::Mat> core_;     // distance to the silhouette boundary >= core_px (CV_8U), if core_px > 0
 };
 

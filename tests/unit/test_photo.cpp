@@ -654,6 +654,8 @@ TEST(PhotoPatch, OutlineFillTakesOnlyTheSamplesInsideTheSilhouette) {
   EXPECT_TRUE(score(31, false).valid());
   EXPECT_FALSE(score(33, true).valid());  // columns 31..35: 5 of 25 inside
   EXPECT_TRUE(score(33, false).valid());
+  EXPECT_EQ(views[0].inside_px.at<std::uint8_t>(32, 0), 32);  // the image border is not an outline
+  EXPECT_EQ(views[0].inside_px.at<std::uint8_t>(32, 40), 0);
   EXPECT_EQ(score(12, true).score, score(12, false).score);  // wholly inside: untouched
   EXPECT_LT(score(12, true).score, 1.f + 1e-6f);
 }
