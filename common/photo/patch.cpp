@@ -407,16 +407,17 @@ void finish(int used, int kp, int mu, int rows, const Options& opts, Scratch& s,
 // Options::outline_fill on the samples of a patch (line along b1, or grid along b1 and b2,
 // with `rows` rows) centred at homogeneous projection h0 of the view, in col[q L]: the
 // samples whose nearest pixel lies outside the silhouette take the mean of the others.
-// False when fewer than half lie inside. A patch whose centre lies farther inside than the
-// patch's extent is left as it is without a look at its samples.
+// False when fewer than half lie inside. With View::inside_px, a patch whose centre lies
+// farther inside than the patch's extent is left as it is without a look at its samples.
 bool fill_outside_silhouette(const View& view, const Eigen::Vector3d& h0, const Eigen::Vector3d& b1,
                              const Eigen::Vector3d& b2, int mu, int rows, float* col, int L) {
-  if (view.inside_px.empty()) return true;
+  if (view.sil.empty()) return true;
   const GridAxes g = grid_axes(h0, b1, b2);
   const int c = mu / 2, cr = rows / 2;
   const double reach = c * (std::abs(g.du1) + std::abs(g.dv1)) + cr * (std::abs(g.du2) + std::abs(g.dv2));
   const int x0 = static_cast<int>(std::lround(g.u0)), y0 = static_cast<int>(std::lround(g.v0));
-  if (x0 >= 0 && y0 >= 0 && x0 < view.width && y0 < view.height && view.inside_px.at<std::uint8_t>(y0, x0) > reach + 1)
+  if (!view.inside_px.empty() && x0 >= 0 && y0 >= 0 && x0 < view.width && y0 < view.height &&
+      view.inside_px.at<std::uint8_t>(y0, x0) > reach + 1)
     return true;
   bool outside[kMaxMu * kMaxMu];
   double sum = 0;

@@ -5,14 +5,14 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/error.h"
+#include "common/silhouette/border.h"
 
 namespace tetmvs::photo {
 
 namespace {
-cv::Mat distance_inside(const cv::Mat& sil) {
-  cv::Mat d, out;
-  cv::distanceTransform(sil, d, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  d.convertTo(out, CV_8U);  // saturating: at most 255
+cv::Mat inside_px_of(const cv::Mat& sil) {
+  cv::Mat out;
+  silhouette::distance_inside(sil).convertTo(out, CV_8U);  // saturating: at most 255
   return out;
 }
 }  // namespace
@@ -25,7 +25,8 @@ bool View::in_silhouette(double u, double v) const {
 }
 
 Views::Views(const std::vector<Camera>& cams, const std::vector<cv::Mat>& grey,
-             const std::vector<cv::Mat>& sil) {
+             const std::vector<cv::Mat>& sil, bool outline_distances)
+    : outline_distances_(outline_distances) {
   require(grey.size() == cams.size(), "photo::Views: ", grey.size(), " grey images for ", cams.size(),
           " cameras");
   require(sil.empty() || sil.size() == cams.size(), "photo::Views: ", sil.size(),
@@ -56,7 +57,7 @@ Views::Views(const std::vector<Camera>& cams, const std::vector<cv::Mat>& grey,
               "photo::Views: silhouette of view ", i, " (", c.name, ") must be CV_8U of size ", g.cols,
               "x", g.rows);
       v.sil = sil[i];
-      v.inside_px = distance_inside(v.sil);
+      if (outline_distances_) v.inside_px = inside_px_of(v.sil);
       has_sil_ = true;
     }
   }
@@ -85,7 +86,7 @@ Views Views::reduced(int level) const {
         for (int x = 0; x < g.cols; ++x)
           m.at<unsigned char>(y, x) = v.sil.at<unsigned char>(std::min(y * f, v.sil.rows - 1), std::min(x * f, v.sil.cols - 1));
       v.sil = m;
-      v.inside_px = distance_inside(v.sil);
+      if (outline_distances_) v.inside_px = inside_px_of(v.sil);
     }
     v.grey = g;
     v.width = g.cols;

@@ -20,7 +20,8 @@ struct View {
   cv::Mat sil;                    // CV_8U, 255 = object; empty when the view has none
   // CV_8U: per silhouette pixel, its distance in pixels to the nearest pixel outside the
   // silhouette (capped at 255; the image border is not an outline), 0 outside; empty
-  // without a silhouette. Tells a patch that lies wholly inside (Options::outline_fill).
+  // without a silhouette or unless asked for (Views' outline_distances). Tells a patch that
+  // lies wholly inside (Options::outline_fill).
   cv::Mat inside_px;
   int width = 0, height = 0;
 
@@ -38,9 +39,10 @@ class Views {
  public:
   Views() = default;
   // grey[i]: CV_32F of the camera's size (cams[i].width/height when set). sil: empty
-  // vector, or one (possibly empty) CV_8U Mat per camera. Throws Error on mismatches.
+  // vector, or one (possibly empty) CV_8U Mat per camera. outline_distances: also
+  // View::inside_px (here and in reduced views). Throws Error on mismatches.
   Views(const std::vector<Camera>& cams, const std::vector<cv::Mat>& grey,
-        const std::vector<cv::Mat>& sil = {});
+        const std::vector<cv::Mat>& sil = {}, bool outline_distances = false);
   int size() const { return static_cast<int>(views_.size()); }
   const View& operator[](int i) const { return views_[i]; }
   bool has_silhouettes() const { return has_sil_; }
@@ -54,6 +56,7 @@ class Views {
  private:
   std::vector<View> views_;
   bool has_sil_ = false;
+  bool outline_distances_ = false;
 };
 
 }  // namespace tetmvs::photo

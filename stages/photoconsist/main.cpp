@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
     }
     scene.load_grey();
     const tet::TetMesh mesh = tet::read_mesh(mesh_file);
-    const photo::Views views(scene.cams, scene.grey, scene.sil);
+    const photo::Views views(scene.cams, scene.grey, scene.sil, opts.line.outline_fill);
     std::optional<pc::GroundTruth> gt;
     TriMesh gt_mesh;
     if (!gt_file.empty()) {

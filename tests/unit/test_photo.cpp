@@ -632,10 +632,8 @@ TEST(PhotoPatch, OutlineFillTakesOnlyTheSamplesInsideTheSilhouette) {
   a(cv::Rect(0, 0, 32, H)).copyTo(b(cv::Rect(0, 0, 32, H)));  // the same object
   for (int y = 0; y < H; ++y)
     for (int x = 32; x < W; ++x) b.at<float>(y, x) = 1.f - a.at<float>(y, x);  // backgrounds anti-correlated
-  const Views views({cam, cam}, {a, b}, {sil, sil});
-  const auto world = [&](double u, double v) {  // the point of pixel (u, v) on the plane z = 0 (depth 5)
-    return Eigen::Vector3d(cam.R.transpose() * (cam.K.inverse() * Eigen::Vector3d(u, v, 1) * 5) + cam.centre());
-  };
+  const Views views({cam, cam}, {a, b}, {sil, sil}, true);
+  const auto world = [&](double u, double v) { return cam.backproject(u, v, 5); };  // on the plane z = 0
   const int both[2] = {0, 1};
   const Eigen::Vector3d a1(1, 0, 0), a2(0, 1, 0);
   const auto score = [&](double u, bool fill) {
@@ -656,6 +654,18 @@ TEST(PhotoPatch, OutlineFillTakesOnlyTheSamplesInsideTheSilhouette) {
   EXPECT_TRUE(score(33, false).valid());
   EXPECT_EQ(views[0].inside_px.at<std::uint8_t>(32, 0), 32);  // the image border is not an outline
   EXPECT_EQ(views[0].inside_px.at<std::uint8_t>(32, 40), 0);
+  {  // without the distances every patch's samples are tested: the same scores
+    const Views plain({cam, cam}, {a, b}, {sil, sil});
+    EXPECT_TRUE(plain[0].inside_px.empty());
+    Options o;
+    o.outline_fill = true;
+    Scratch s;
+    for (const double u : {12.0, 31.0}) {
+      PatchResult r;
+      detail::score_in_views(plain, world(u, 32), a1, &a2, 0.05, both, 2, 1, o, s, r);
+      EXPECT_EQ(r.score, score(u, true).score) << u;
+    }
+  }
   EXPECT_EQ(score(12, true).score, score(12, false).score);  // wholly inside: untouched
   EXPECT_LT(score(12, true).score, 1.f + 1e-6f);
 }

@@ -839,9 +839,7 @@ TEST(PhotoconsistHull, PackedSilhouetteAgreesWithAPixelScan) {
   const photo::Views views({cam}, {cv::Mat(H, W, CV_32F, cv::Scalar(0.5))}, {sil});
   const pc::HullTest hull(views, {sil}, 0);
   const auto in_sil = [&](int x, int y) { return x >= 0 && y >= 0 && x < W && y < H && sil.at<std::uint8_t>(y, x) != 0; };
-  const auto world = [&](double u, double v) {  // the point of pixel (u, v) at depth 5 (the plane z = 0)
-    return Eigen::Vector3d(cam.R.transpose() * (cam.K.inverse() * Eigen::Vector3d(u, v, 1) * 5) + cam.centre());
-  };
+  const auto world = [&](double u, double v) { return cam.backproject(u, v, 5); };  // on the plane z = 0
   std::uint64_t rng = 7;
   const auto uniform = [&](double lo, double hi) {
     rng = rng * 6364136223846793005ULL + 1442695040888963407ULL;
