@@ -19,7 +19,7 @@ if [ "${SANITIZE:-1}" != "0" ]; then
     cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1" \
       -DTETMVS_SANITIZE=ON -DTETMVS_BENCH=OFF -DTETMVS_UNITY="${TETMVS_UNITY:-ON}" >/dev/null
   fi
-  ninja -C build-asan unit_tests
+  ninja -C build-asan  # the unit tests and the programs in one call: the cores stay busy
   echo "== ASan build took $(( $(date +%s) - start )) s since the start"
   echo "== tests (ASan + UBSan)"
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
@@ -38,7 +38,6 @@ if [ "${SANITIZE:-1}" != "0" ]; then
   # larger e2e pipeline test under the sanitizers instead (about 10 more minutes).
   echo "== ASan unit tests done $(( $(date +%s) - start )) s since the start"
   echo "== mini pipeline (ASan + UBSan)"
-  ninja -C build-asan
   mini=build-asan/e2e-mini
   rm -rf "$mini"
   make -s -f pipeline.mk BUILD_DIR="$PWD/build-asan" DATA=synth-sphere SYNTH_DIR="$PWD/$mini/data" \
