@@ -27,7 +27,7 @@ struct Options {
   double visibility_tol_px = 3.0; // a vertex is visible when not behind the z-buffer by more than this (pixels)
   double sil_tolerance_px = 0.5;  // silhouette disagreements up to this are left to the photometric force
   // photometric force (photometric.h)
-  double w_photo = 1.0;           // fraction of the photometric step applied per iteration
+  double w_photo = 0.5;           // fraction of the photometric step applied per iteration
   int photo_start = 2;            // first iteration with the photometric force (smooth the lattice facets first)
   int photo_window = 7;           // NCC window side, pixels of the images in use (odd)
   int photo_partners = 4;         // views reprojected into each view and compared with it ...
@@ -36,7 +36,7 @@ struct Options {
   int photo_coarsest_level = 4;   // the force starts on the images reduced this many times ...
   int photo_level_iterations = 7; // ... spending this many iterations on each reduced level
   // step control and remeshing
-  double max_move_px = 1.0;       // largest move of a vertex per iteration (pixels)
+  double max_move_px = 3.0;       // largest move of a vertex per iteration (pixels)
   double max_edge_px = 3.0;       // split edges longer than this in their finest view (pixels of mesh_level)
   double min_edge_px = 1.35;      // collapse edges shorter than this (below max_edge_px / 2)
   double needle_ratio = 0.2;      // collapse the shortest edge of triangles with shortest/longest below this
