@@ -32,7 +32,7 @@ if [ "${SANITIZE:-1}" != "0" ]; then
   # take under the sanitizers). The Release pass runs them, and the mini pipeline below runs
   # photoconsist's passes, label and deform under the sanitizers.
   build-asan/bin/unit_tests --gtest_brief=1 \
-    --gtest_filter='-PhotoconsistScene.*:DeformScene.Textured*:DeformScene.Textureless*:DeformScene.WithoutSilhouettes*:Label.ConflictingLabelsFromQAreLeftFree:Label.VotedOutCellsLieDeepInsideTheHull:Label.CupLabelsAreNeverWrong:Label.SeenFreeSpaceLeavesTheHullCoreAndTheVotesAlone:Label.FewViewsSeeingThroughDoNotOutweighManyHidingViews'
+    --gtest_filter='-PhotoconsistScene.*:DeformScene.Textured*:DeformScene.Textureless*:DeformScene.WithoutSilhouettes*:DeformScene.HalfSteps*:Label.ConflictingLabelsFromQAreLeftFree:Label.VotedOutCellsLieDeepInsideTheHull:Label.CupLabelsAreNeverWrong:Label.SeenFreeSpaceLeavesTheHullCoreAndTheVotesAlone:Label.FewViewsSeeingThroughDoNotOutweighManyHidingViews'
   # every stage end to end on a mini scene (16 views of 160 x 120, 2 levels: ~3 min with the
   # build); a sanitizer report aborts its stage, so make fails. SANITIZE_E2E=1 runs the
   # larger e2e pipeline test under the sanitizers instead (about 10 more minutes).
