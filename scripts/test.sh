@@ -33,8 +33,8 @@ if [ "${SANITIZE:-1}" != "0" ]; then
   # photoconsist's passes, label and deform under the sanitizers.
   build-asan/bin/unit_tests --gtest_brief=1 \
     --gtest_filter='-PhotoconsistScene.*:DeformScene.Textured*:DeformScene.Textureless*:DeformScene.WithoutSilhouettes*:DeformScene.HalfSteps*:Label.ConflictingLabelsFromQAreLeftFree:Label.VotedOutCellsLieDeepInsideTheHull:Label.CupLabelsAreNeverWrong:Label.SeenFreeSpaceLeavesTheHullCoreAndTheVotesAlone:Label.FewViewsSeeingThroughDoNotOutweighManyHidingViews'
-  # every stage end to end on a mini scene (16 views of 160 x 120, 2 levels: ~3 min with the
-  # build); a sanitizer report aborts its stage, so make fails. SANITIZE_E2E=1 runs the
+  # every stage end to end on a mini scene (16 views of 160 x 120, 2 levels: under a minute; the
+  # programs were built above); a sanitizer report aborts its stage, so make fails. SANITIZE_E2E=1 runs the
   # larger e2e pipeline test under the sanitizers instead (about 10 more minutes).
   echo "== ASan unit tests done $(( $(date +%s) - start )) s since the start"
   echo "== mini pipeline (ASan + UBSan)"

@@ -36,7 +36,7 @@ struct Options {
   int photo_coarsest_level = 4;   // the force starts on the images reduced this many times ...
   int photo_level_iterations = 7; // ... spending this many iterations on each reduced level
   // step control and remeshing
-  double max_move_px = 3.0;       // largest move of a vertex per iteration (pixels)
+  double max_move_px = 3.0;       // largest move of a vertex per iteration (full-resolution pixels, finest view)
   double max_edge_px = 3.0;       // split edges longer than this in their finest view (pixels of mesh_level)
   double min_edge_px = 1.35;      // collapse edges shorter than this (below max_edge_px / 2)
   double needle_ratio = 0.2;      // collapse the shortest edge of triangles with shortest/longest below this
