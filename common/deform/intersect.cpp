@@ -175,6 +175,14 @@ struct Grid {
 
 namespace {
 
+// The box (lo xyz, hi xyz) of triangle t over the vertex positions of V.
+inline void triangle_box(const std::vector<Eigen::Vector3d>& V, const Eigen::Vector3i& t, double* x) {
+  for (int d = 0; d < 3; ++d) {
+    x[d] = std::min({V[t[0]][d], V[t[1]][d], V[t[2]][d]});
+    x[3 + d] = std::max({V[t[0]][d], V[t[1]][d], V[t[2]][d]});
+  }
+}
+
 // Boxes (lo xyz, hi xyz per face) of the faces over the vertex positions of V and, when
 // given, of V1 as well.
 std::vector<double> face_boxes(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F,
@@ -184,9 +192,8 @@ std::vector<double> face_boxes(const std::vector<Eigen::Vector3d>& V, const std:
 #pragma omp parallel for schedule(static)
   for (int f = 0; f < nf; ++f) {
     double* x = &box[6 * static_cast<size_t>(f)];
+    triangle_box(V, F[f], x);
     for (int d = 0; d < 3; ++d) {
-      x[d] = std::min({V[F[f][0]][d], V[F[f][1]][d], V[F[f][2]][d]});
-      x[3 + d] = std::max({V[F[f][0]][d], V[F[f][1]][d], V[F[f][2]][d]});
       if (V1) {
         const auto& W = *V1;
         x[d] = std::min({x[d], W[F[f][0]][d], W[F[f][1]][d], W[F[f][2]][d]});
@@ -254,7 +261,6 @@ std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vec
   const int nf = static_cast<int>(F.size());
   std::vector<std::pair<int, int>> out;
   if (nf < 2) return out;
-  const std::vector<double> box = face_boxes(V, F);
   const bool filter = !only_faces.empty();
   std::vector<int> query;
   if (filter) {
@@ -264,19 +270,29 @@ std::vector<std::pair<int, int>> self_intersections(const std::vector<Eigen::Vec
   }
   Grid grid;
   if (filter && static_cast<long long>(query.size()) * 8 < nf) {
-    // Few listed faces: a grid of those only, every face looked up in it. A pair of two
-    // listed faces is tested from its lower face.
-    grid.build(box, query);
+    // Few listed faces: their boxes and a grid of them only (numbered 0..nq-1), every
+    // face's box made on the fly and looked up in it (no array over all faces: deform's
+    // untangling asks this many times an iteration for a few faces of a mesh of millions).
+    // A pair of two listed faces is tested from its lower face.
+    const int nq = static_cast<int>(query.size());
+    std::vector<double> qbox(6 * static_cast<size_t>(nq));
+    for (int k = 0; k < nq; ++k) triangle_box(V, F[query[k]], &qbox[6 * static_cast<size_t>(k)]);
+    std::vector<int> local(nq);
+    std::iota(local.begin(), local.end(), 0);
+    grid.build(qbox, local);
     run_chunks(nf, out, [&](int s, std::vector<std::pair<int, int>>& found) {
-      const double* bs = &box[6 * static_cast<size_t>(s)];
+      double bs[6];
+      triangle_box(V, F[s], bs);
       if (grid.outside(bs)) return;
-      grid.overlapping(box, bs, [&](int f) {
+      grid.overlapping(qbox, bs, [&](int k) {
+        const int f = query[k];
         if (f == s || (only_faces[s] && s < f)) return;
         if (triangles_cross(V, F[f], F[s])) found.emplace_back(std::min(f, s), std::max(f, s));
       });
     });
   } else {
     // A grid of every face; the listed faces (all when unfiltered) are looked up in it.
+    const std::vector<double> box = face_boxes(V, F);
     std::vector<int> all(nf);
     std::iota(all.begin(), all.end(), 0);
     grid.build(box, all);
