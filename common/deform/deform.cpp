@@ -244,7 +244,8 @@ std::vector<std::pair<int, int>> untangle(std::vector<Eigen::Vector3d>& V, const
                                           std::vector<std::pair<int, int>> pairs, int rounds) {
   if (pairs.empty()) return pairs;
   const int nv = static_cast<int>(V.size());
-  const Topology topo = build_topology(F, nv);
+  std::vector<int> nbr_start, nbr;
+  build_neighbours(F, nv, nbr_start, nbr);
   for (int r = 0; r < rounds && !pairs.empty(); ++r) {
     std::vector<char> mark(nv, 0);
     for (const auto& p : pairs)
@@ -254,17 +255,17 @@ std::vector<std::pair<int, int>> untangle(std::vector<Eigen::Vector3d>& V, const
       std::vector<char> grown = mark;
       for (int v = 0; v < nv; ++v)
         if (mark[v])
-          for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) grown[topo.nbr[q]] = 1;
+          for (int q = nbr_start[v]; q < nbr_start[v + 1]; ++q) grown[nbr[q]] = 1;
       mark.swap(grown);
     }
     // new positions of the marked vertices from the old ones, then applied
     std::vector<std::pair<int, Eigen::Vector3d>> moved;
     for (int v = 0; v < nv; ++v) {
       if (!mark[v]) continue;
-      const int s = topo.nbr_start[v], e = topo.nbr_start[v + 1];
+      const int s = nbr_start[v], e = nbr_start[v + 1];
       if (e == s) continue;
       Eigen::Vector3d m = Eigen::Vector3d::Zero();
-      for (int q = s; q < e; ++q) m += V[topo.nbr[q]];
+      for (int q = s; q < e; ++q) m += V[nbr[q]];
       moved.emplace_back(v, 0.5 * V[v] + 0.5 * m / (e - s));
     }
     for (const auto& [v, x] : moved) V[v] = x;

@@ -28,4 +28,9 @@ struct Topology {
 
 Topology build_topology(const std::vector<Eigen::Vector3i>& F, int num_vertices);
 
+// The vertex neighbours alone, as Topology's nbr_start / nbr (each row sorted, no repeats),
+// for callers that need no edges or faces (deform's untangling, many times an iteration).
+void build_neighbours(const std::vector<Eigen::Vector3i>& F, int num_vertices, std::vector<int>& nbr_start,
+                      std::vector<int>& nbr);
+
 }  // namespace tetmvs::deform

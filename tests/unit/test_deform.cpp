@@ -65,6 +65,20 @@ TEST(DeformTopology, EdgesAndNeighboursOfATetrahedron) {
   EXPECT_EQ(t.find_edge(0, 0), -1);
 }
 
+// The neighbours alone (untangling's) are the topology's, row for row and in order (the
+// umbrella mean sums them in that order).
+TEST(DeformTopology, NeighboursAloneAreTheTopologys) {
+  for (const TriMesh& m : {synth::make_sphere(0.2), synth::make_torus(0.15)}) {
+    const int nv = static_cast<int>(m.V.size());
+    const Topology t = build_topology(m.F, nv);
+    std::vector<int> start, nbr;
+    build_neighbours(m.F, nv, start, nbr);
+    EXPECT_EQ(start, t.nbr_start);
+    EXPECT_EQ(nbr, t.nbr);
+    EXPECT_GT(nbr.size(), 5u * m.V.size());
+  }
+}
+
 TEST(DeformRemesh, RedGreenSplitBoundsEdgesAndKeepsTheSurface) {
   const TriMesh sphere = synth::make_sphere(0.5);
   RemeshMesh m = from_trimesh(sphere, 0.1);  // edges of ~5 "pixels"
