@@ -9,6 +9,7 @@ accuracy and completeness of cut1, cut2 and final and, per level, the recall and
 the crossing faces against the ground truth (both measured after the timed run).
 
   scripts/bench_pipeline.py --data dinoRing --levels 4
+  scripts/bench_pipeline.py --data dtuScan37 --levels auto DATA_DIR=../shared/data/dtu  # the levels refine.target_pixels needs
   scripts/bench_pipeline.py --data synth-torus --levels 3 --out bench/results/synth-torus.json
   scripts/bench_pipeline.py --data dinoRing --recut      # also time a re-cut with another LAMBDA
   scripts/bench_pipeline.py --data synth-torus SYNTH_DIR=/tmp/t08 "SYNTH_FLAGS=--texture 0.08"  # a variant scene
@@ -132,6 +133,27 @@ def crossing_recall(run_dir, entries, gt, bin_dir):
     return rows
 
 
+def levels_arg(text):
+    """--levels: a whole number from 1 to 12, or auto."""
+    if text == "auto":
+        return text
+    if text.isdigit() and 1 <= int(text) <= 12:
+        return int(text)
+    raise argparse.ArgumentTypeError(f"'{text}': give a whole number from 1 to 12, or auto")
+
+
+def levels_of(args, run_dir):
+    """The number of levels the run used: --levels, or with auto the one pipeline.mk chose
+    (its levels.mk in the run directory)."""
+    if args.levels != "auto":
+        return args.levels
+    p = os.path.join(run_dir, "levels.mk")
+    m = re.search(r"LEVELS_AUTO\s*:=\s*(\d+)", open(p).read()) if os.path.exists(p) else None
+    if not m:
+        sys.exit(f"bench_pipeline: {p}: no LEVELS_AUTO line; was the run made with LEVELS=auto?")
+    return int(m.group(1))
+
+
 def run_make(args, run_dir, extra, targets):
     cmd = ["make", "-f", os.path.join(ROOT, "pipeline.mk"), f"DATA={args.data}", f"RUN_DIR={run_dir}",
            f"LEVELS={args.levels}", "QUIET=1"] + extra + targets
@@ -146,7 +168,9 @@ def run_make(args, run_dir, extra, targets):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--data", default="synth-torus", help="DATA of pipeline.mk (default synth-torus)")
-    ap.add_argument("--levels", type=int, default=3, help="LEVELS (dinoRing: 4 gives ~2 px cells)")
+    ap.add_argument("--levels", type=levels_arg, default=3,
+                    help="LEVELS: a number from 1 to 12, or auto (the pipeline's default: as many as "
+                         "refine.target_pixels needs; a DTU scan needs 6); default 3")
     ap.add_argument("--run-dir", help="run directory (default /tmp/tetmvs-bench/<data>-L<levels>)")
     ap.add_argument("--out", help="JSON output (default: <run-dir>/bench.json only)")
     ap.add_argument("--keep", action="store_true", help="do not delete the run directory first")
@@ -277,10 +301,11 @@ def summarize(args, run_dir, wall, quality=True):
         p["peak_memory_mb"] = max(p["peak_memory_mb"], s["peak_memory_mb"])
         p["runs"] += 1
     c0 = mesh_cells(os.path.join(run_dir, "mesh_0.h5"))
-    cl = mesh_cells(os.path.join(run_dir, f"mesh_{args.levels}.h5"))
+    levels = levels_of(args, run_dir)
+    cl = mesh_cells(os.path.join(run_dir, f"mesh_{levels}.h5"))
     result = {
         "schema": "tetmvs.bench_pipeline", "schema_version": 1,
-        "data": args.data, "levels": args.levels, "make_vars": args.vars, "run_dir": run_dir,
+        "data": args.data, "levels": levels, "levels_option": args.levels, "make_vars": args.vars, "run_dir": run_dir,
         "machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
         "git": subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip(),
         "pipeline_wall_s": round(wall, 2),
@@ -296,8 +321,8 @@ def summarize(args, run_dir, wall, quality=True):
                                 and s["peak_memory_mb"] > 256],
         "stages": stages,
         "mesh": {"cells_level0": c0, "cells_final": cl,
-                 "cells_uniform_same_finest": c0 * 8 ** args.levels if c0 else None,
-                 "fraction_of_uniform": round(cl / (c0 * 8 ** args.levels), 5) if c0 and cl else None},
+                 "cells_uniform_same_finest": c0 * 8 ** levels if c0 else None,
+                 "fraction_of_uniform": round(cl / (c0 * 8 ** levels), 5) if c0 and cl else None},
     }
     if args.recut and not args.collect:
         lam = "LAMBDA=1.5"
@@ -328,7 +353,7 @@ def summarize(args, run_dir, wall, quality=True):
 
 def print_result(args, result):
     per_stage = result["per_stage"]
-    print(f"{args.data} L{args.levels}: pipeline {result['pipeline_wall_s']} s wall, peak {result['peak_memory_mb']} MB")
+    print(f"{args.data} L{result['levels']}: pipeline {result['pipeline_wall_s']} s wall, peak {result['peak_memory_mb']} MB")
     for k, s in per_stage.items():
         print(f"  {k:16s} {s['wall_s']:9.1f} s wall {s['cpu_s']:9.1f} s cpu {s['peak_memory_mb']:8.0f} MB  x{s['runs']}")
     for k, q in result.get("quality", {}).items():

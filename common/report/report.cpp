@@ -109,6 +109,64 @@ cv::Mat points_picture(const Scene& s, const QPoints& q, int v) {
   return img;
 }
 
+// One surface's silhouette agreement, for the per-view chart and table.
+struct SurfaceAgreement {
+  std::string name;
+  SilhouetteAgreement a;
+};
+
+// IoU per view of each surface as a line chart (x: view, y: IoU from a round value below the
+// lowest to 1), views whose true silhouette touches the image border shaded grey.
+cv::Mat iou_chart(const std::vector<SurfaceAgreement>& s, int width = kSheetWidth, int height = 300) {
+  cv::Mat img(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
+  const std::vector<int>& views = s.front().a.views;
+  const int n = static_cast<int>(views.size());
+  double lo = 1;
+  for (const auto& x : s)
+    for (double v : x.a.iou) lo = std::min(lo, v);
+  // the y axis starts at a round value below the lowest IoU: 0.99, 0.98, 0.95, 0.9, 0.8, ... 0
+  double y0 = 0;
+  for (double c : {0.99, 0.98, 0.95, 0.9, 0.8, 0.7, 0.5})
+    if (lo >= c + 0.002) {
+      y0 = c;
+      break;
+    }
+  const int left = 60, right = 150, top = 12, bottom = 34;
+  const double pw = width - left - right, ph = height - top - bottom;
+  const auto X = [&](int k) { return left + static_cast<int>(std::lround(n > 1 ? pw * k / (n - 1) : pw / 2)); };
+  const auto Y = [&](double iou) {
+    return top + static_cast<int>(std::lround(ph * (1 - (std::clamp(iou, y0, 1.0) - y0) / (1 - y0))));
+  };
+  const double half = n > 1 ? 0.5 * pw / (n - 1) : 0.5 * pw;
+  for (int k = 0; k < n; ++k)
+    if (s.front().a.cut_by_border[k])
+      cv::rectangle(img, {static_cast<int>(X(k) - half), top}, {static_cast<int>(X(k) + half), top + static_cast<int>(ph)},
+                    cv::Scalar(225, 225, 225), cv::FILLED);
+  const auto text = [&](const std::string& t, cv::Point at, const cv::Scalar& c) {
+    cv::putText(img, t, at, cv::FONT_HERSHEY_SIMPLEX, 0.45, c, 1, cv::LINE_AA);
+  };
+  for (int i = 0; i <= 4; ++i) {  // horizontal grid and its values
+    const double v = y0 + (1 - y0) * i / 4;
+    cv::line(img, {left, Y(v)}, {left + static_cast<int>(pw), Y(v)}, cv::Scalar(200, 200, 200), 1);
+    text(fmt(v, 4), {4, Y(v) + 5}, cv::Scalar(60, 60, 60));
+  }
+  for (int k = 0; k < n; k += std::max(1, n / 12)) text(std::to_string(views[k]), {X(k) - 8, height - 16}, cv::Scalar(60, 60, 60));
+  text("view", {left + static_cast<int>(pw / 2) - 16, height - 2}, cv::Scalar(60, 60, 60));
+  const cv::Scalar colours[] = {cv::Scalar(150, 150, 150), cv::Scalar(40, 90, 220), cv::Scalar(30, 160, 60)};  // RGB
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    const cv::Scalar c = colours[std::min<std::size_t>(j, 2)];
+    for (int k = 0; k < n; ++k) {
+      if (k > 0) cv::line(img, {X(k - 1), Y(s[j].a.iou[k - 1])}, {X(k), Y(s[j].a.iou[k])}, c, 2, cv::LINE_AA);
+      cv::circle(img, {X(k), Y(s[j].a.iou[k])}, 2, c, cv::FILLED, cv::LINE_AA);
+    }
+    cv::line(img, {width - right + 14, top + 10 + 20 * static_cast<int>(j)}, {width - right + 40, top + 10 + 20 * static_cast<int>(j)}, c, 2);
+    text(s[j].name, {width - right + 46, top + 15 + 20 * static_cast<int>(j)}, cv::Scalar(30, 30, 30));
+  }
+  if (n > 0 && std::any_of(s.front().a.cut_by_border.begin(), s.front().a.cut_by_border.end(), [](char b) { return b; }))
+    text("grey: mask touches the border", {width - right + 4, top + 15 + 20 * static_cast<int>(s.size()) + 10}, cv::Scalar(90, 90, 90));
+  return img;
+}
+
 }  // namespace
 
 std::string build_report(const Options& o) {
@@ -160,6 +218,7 @@ std::string build_report(const Options& o) {
     << "<th>completeness (eval.threshold)</th><th>roughness (pixels at the object, median / 90%)</th>"
     << "<th>wrong labels: interior / exterior cells (wholly)</th></tr>\n";
   std::vector<std::pair<std::string, TriMesh>> surfaces;
+  std::vector<SurfaceAgreement> agreements;
   for (const char* name : {"cut1", "cut2", "final"}) {
     const fs::path ply = R / (std::string(name) + ".ply");
     if (!fs::exists(ply)) continue;
@@ -214,8 +273,26 @@ std::string build_report(const Options& o) {
       << "</td><td class=num>" << esc(wrong)
       << "</td></tr>\n";
     surfaces.emplace_back(name, std::move(m));
+    if (!ag.views.empty()) agreements.push_back({std::string(name) + ".ply", ag});
   }
   h << "</table>\n";
+  // ---- silhouette agreement per view: a chart, and the numbers behind it
+  if (!agreements.empty()) {
+    h << "<h2>Silhouette agreement per view</h2>\n"
+      << img_tag(iou_chart(agreements), "silhouette IoU of each surface in each view with a silhouette", kSheetWidth)
+      << "<details><summary>IoU per view</summary><table><tr><th>view</th><th>camera</th><th>mask touches the border</th>";
+    for (const auto& x : agreements) h << "<th>" << esc(x.name) << "</th>";
+    h << "</tr>\n";
+    const SilhouetteAgreement& a0 = agreements.front().a;
+    for (std::size_t k = 0; k < a0.views.size(); ++k) {
+      const int v = a0.views[k];
+      h << "<tr><td class=num>" << v << "</td><td>" << esc(scene.cams[v].name) << "</td><td>"
+        << (a0.cut_by_border[k] ? "yes" : "no") << "</td>";
+      for (const auto& x : agreements) h << "<td class=num>" << fmt(x.a.iou[k], 4) << "</td>";
+      h << "</tr>\n";
+    }
+    h << "</table></details>\n";
+  }
   for (const char* name : {"cut1", "cut2", "final"}) {
     const fs::path ev = R / ("eval_" + std::string(name) + ".json");
     if (fs::exists(ev)) {

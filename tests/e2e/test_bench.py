@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """scripts/bench_pipeline.py --ab: two configurations run alternately on a tiny synthetic
 scene (8 views of 160 x 120, one level); the comparison's JSON holds each run, the means and
-B's change per stage, and the options it cannot combine with are refused.
+B's change per stage, and the options it cannot combine with are refused. --levels auto
+records the number of levels the pipeline chose.
 
 usage: test_bench.py BIN_DIR SOURCE_DIR
 """
@@ -46,6 +47,22 @@ def main():
                    abs(d["change_cpu_s"] - (d["B_cpu_s_mean"] / d["A_cpu_s_mean"] - 1)) < 1e-3,
                    "B's change is B's mean over A's, minus one")
             expect("deform" in r.stdout and "change" in r.stdout, "the table is printed")
+        # --levels auto: the pipeline chooses the levels (refine.target_pixels) and the JSON
+        # holds the number it chose, its finest mesh's cells and the option as given
+        auto = os.path.join(tmp, "auto.json")
+        r = subprocess.run(BENCH + ["--data", "synth-torus", "--levels", "auto", "--run-dir", f"{tmp}/auto",
+                                    "--out", auto] + scene, capture_output=True, text=True)
+        expect(r.returncode == 0, f"bench_pipeline --levels auto exits 0 ({r.stderr.strip()[-500:]})")
+        if r.returncode == 0:
+            a = json.load(open(auto))
+            chosen = open(f"{tmp}/auto/levels.mk").read().split(":=")[1].strip()
+            expect(a["levels_option"] == "auto" and a["levels"] == int(chosen),
+                   f"the levels pipeline.mk chose ({chosen}) are recorded: {a['levels']}, {a['levels_option']}")
+            expect(os.path.isfile(f"{tmp}/auto/mesh_{a['levels']}.h5") and a["mesh"]["cells_final"] > 0,
+                   "the finest mesh's cells are those of the chosen level")
+        for bad in (["--levels", "0"], ["--levels", "13"], ["--levels", "many"]):
+            r = subprocess.run(BENCH + bad, capture_output=True, text=True)
+            expect(r.returncode == 2 and "--levels" in r.stderr, f"{' '.join(bad)} is refused ({r.stderr.strip()[-200:]})")
         for bad in (["--collect"], ["--keep"], ["--repeat", "0"]):
             r = subprocess.run(BENCH + ["--ab", "", "T=0.7"] + bad, capture_output=True, text=True)
             expect(r.returncode == 2 and ("--ab" in r.stderr or "--repeat" in r.stderr),

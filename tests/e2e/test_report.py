@@ -15,6 +15,8 @@ import sys
 import tempfile
 import zlib
 
+import h5py
+
 sys.path.insert(0, os.path.dirname(__file__))
 import harness  # noqa: E402
 import tiny_run  # noqa: E402
@@ -133,6 +135,24 @@ def main():
                 wrong = f"{li['wrong']} ({li['wrong_whole']}) / {le['wrong']} ({le['wrong_whole']})"
                 expect(wrong in row.group(1), f"{s}: wrong labels {wrong} shown in its row")
     expect("wrong labels" in html, "the results table has a wrong-labels column")
+
+    # the silhouette agreement of every surface in every view with a silhouette: a chart and
+    # a table with a row per view, an IoU per surface in [0, 1]
+    expect("<h2>Silhouette agreement per view" in html, "section 'Silhouette agreement per view' present")
+    table = re.search(r"<summary>IoU per view</summary><table>(.*?)</table>", html, re.S)
+    expect(table is not None, "the per-view IoU table")
+    if table:
+        surfaces = [s for s in ["cut1", "cut2", "final"] if os.path.exists(os.path.join(run, f"{s}.ply"))]
+        header = re.findall(r"<th>([^<]*)</th>", table.group(1))
+        expect(header[-len(surfaces):] == [f"{s}.ply" for s in surfaces], f"one IoU column per surface: {header}")
+        rows = re.findall(r"<tr><td class=num>(\d+)</td><td>[^<]*</td><td>(yes|no)</td>((?:<td class=num>[^<]*</td>)+)</tr>",
+                          table.group(1))
+        with h5py.File(os.path.join(run, "scene.h5"), "r") as f:
+            views = int(f["silhouettes/valid"][:].astype(bool).sum())
+        expect(views >= 2 and len(rows) == views, f"{len(rows)} rows for {views} views with a silhouette")
+        ious = [float(x) for _, _, cells in rows for x in re.findall(r"<td class=num>([^<]*)</td>", cells)]
+        expect(len(ious) == len(rows) * len(surfaces) and all(0 <= x <= 1 for x in ious),
+               f"an IoU in [0, 1] per view and surface ({len(ious)} values)")
     stages_log = [json.loads(line)["stage"] for line in open(os.path.join(run, "stages.jsonl"))]
     for st in set(stages_log) - {"report"}:
         expect(re.search(rf"<tr><td>{re.escape(st)}( → [^<]*)?</td><td class=num>[0-9.e+-]+</td>", html) is not None,
