@@ -384,9 +384,17 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
       st.mean_photo_step_px = moved ? sum_px / static_cast<double>(moved) : 0;
     }
     pt.lap(kPartPhoto);
+    // the corrections' reach around the rim (silhouette_spread), while the photometric force
+    // works on images reduced four times or more: on the finer ones it places the surface;
+    // corrections of half the largest one or more do not spread
+    constexpr int kSpreadMinLevel = 2;
+    const bool spreading = st.photo_level < 0 || st.photo_level >= kSpreadMinLevel;
+    const std::vector<double> fspread = silhouette_spread(
+        M.V, N, M.fp, topo, fsil,
+        {spreading ? opt.sil_spread_px : 0, std::ldexp(1.0, opt.mesh_level(it)), 0.5 * opt.sil_max_px});
     std::vector<Eigen::Vector3d> move(nv);
     for (int v = 0; v < nv; ++v) {
-      Eigen::Vector3d d = fs[v] + opt.w_silhouette * fsil[v];
+      Eigen::Vector3d d = fs[v] + opt.w_silhouette * (fsil[v] + fspread[v] * N[v]);
       if (!fphoto.empty() && fsil[v].squaredNorm() == 0) d += opt.w_photo * fphoto[v] * N[v];
       const double lim = opt.max_move_px * M.fp[v];
       const double l = d.norm();

@@ -255,4 +255,46 @@ std::vector<Eigen::Vector3d> silhouette_force(const std::vector<Eigen::Vector3d>
   return out;
 }
 
+std::vector<double> silhouette_spread(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3d>& N,
+                                      const std::vector<double>& fp, const Topology& topo,
+                                      const std::vector<Eigen::Vector3d>& fsil, const SpreadOptions& o) {
+  const int nv = static_cast<int>(V.size());
+  std::vector<double> out(nv, 0.0);
+  if (!(o.reach_px > 0)) return out;
+  // ring by ring outwards from the spreading corrections: each reached vertex carries the
+  // mean correction of the neighbours it was reached from and its shortest distance (pixels
+  // of the level); every corrected vertex is reached from the start (it moves by its own)
+  std::vector<double> carried(nv, 0.0), dist(nv, 0.0);
+  std::vector<char> reached(nv, 0);
+  std::vector<int> ring;
+  for (int v = 0; v < nv; ++v) {
+    if (fsil[v].squaredNorm() == 0) continue;
+    reached[v] = 1;
+    carried[v] = fsil[v].dot(N[v]);
+    if (carried[v] > 0 && fsil[v].norm() < o.max_source_px * fp[v]) ring.push_back(v);
+  }
+  std::vector<int> next;
+  std::vector<double> sum(nv, 0.0), best(nv, 0.0);
+  std::vector<int> count(nv, 0);
+  while (!ring.empty()) {  // serial, in vertex order: the result does not depend on threads
+    next.clear();
+    for (const int q : ring)
+      for (int k = topo.nbr_start[q]; k < topo.nbr_start[q + 1]; ++k) {
+        const int v = topo.nbr[k];
+        if (reached[v] || !(fp[v] > 0)) continue;
+        const double d = dist[q] + (V[v] - V[q]).norm() / (fp[v] * o.level_scale);
+        if (d >= o.reach_px) continue;
+        if (count[v] == 0) next.push_back(v), best[v] = d;
+        sum[v] += carried[q], ++count[v], best[v] = std::min(best[v], d);
+      }
+    std::sort(next.begin(), next.end());
+    for (const int v : next) {
+      carried[v] = sum[v] / count[v], dist[v] = best[v], reached[v] = 1;
+      out[v] = carried[v] * (1.0 - dist[v] / o.reach_px);
+    }
+    ring.swap(next);
+  }
+  return out;
+}
+
 }  // namespace tetmvs::deform

@@ -71,4 +71,24 @@ std::vector<Eigen::Vector3d> silhouette_force(const std::vector<Eigen::Vector3d>
                                               const std::vector<ViewRaster>& rasters, const Options& opt,
                                               std::vector<int>& rim_views);
 
+// The silhouette force's reach around the rim. Without it a rim vertex pulled out moves
+// alone and raises a fin along its contour generator, leaving a fold where the true surface
+// continues between the contours of two groups of views (the top of a torus seen by a ring
+// of cameras). A vertex without a correction of its own within reach_px (pixels of the
+// images the mesh follows: footprint fp times level_scale) of vertices pulled outward, along
+// the mesh's edges, moves along its normal by their corrections' mean normal part times
+// 1 - distance / reach_px. Corrections of max_source_px (full-resolution pixels) or more do
+// not spread: they mark a part missing from the mesh (a cup's rim the cut took off), which
+// its rim vertices bring back by themselves, and the surface around them (the lid over the
+// cup's cavity) must not follow. Returns the step along N per vertex (0 for the corrected
+// vertices and those out of reach).
+struct SpreadOptions {
+  double reach_px = 0;        // 0: no spread
+  double level_scale = 1;     // 2^mesh_level
+  double max_source_px = 0;
+};
+std::vector<double> silhouette_spread(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3d>& N,
+                                      const std::vector<double>& fp, const Topology& topo,
+                                      const std::vector<Eigen::Vector3d>& fsil, const SpreadOptions& o);
+
 }  // namespace tetmvs::deform

@@ -26,6 +26,7 @@ struct Options {
   double sil_max_px = 5.0;        // largest silhouette correction per view (pixels)
   double visibility_tol_px = 3.0; // a vertex is visible when not behind the z-buffer by more than this (pixels)
   double sil_tolerance_px = 0.5;  // silhouette disagreements up to this are left to the photometric force
+  double sil_spread_px = 3;       // a correction also moves the vertices this far around it (pixels of mesh_level; 0: off)
   // photometric force (photometric.h)
   double w_photo = 0.5;           // fraction of the photometric step applied per iteration
   int photo_start = 2;            // first iteration with the photometric force (smooth the lattice facets first)
@@ -71,6 +72,7 @@ struct Options {
         {"deform.sil_max_px", &Options::sil_max_px},
         {"deform.visibility_tol_px", &Options::visibility_tol_px},
         {"deform.sil_tolerance_px", &Options::sil_tolerance_px},
+        {"deform.sil_spread_px", &Options::sil_spread_px},
         {"deform.w_photo", &Options::w_photo},
         {"deform.photo_start", &Options::photo_start},
         {"deform.photo_window", &Options::photo_window},

@@ -346,6 +346,47 @@ TEST(DeformSmooth, BilaplacianDoesNotShrinkASphereButUmbrellaDoes) {
   EXPECT_LT(std::abs(mb), 0.2 * std::abs(mu));  // bi-Laplacian: far less net normal motion
 }
 
+TEST(DeformSilhouette, SpreadMovesTheVerticesAroundAnOutwardPullAndFades) {
+  // a flat grid of 21 x 21 vertices 1 unit apart (footprint 1: units are pixels), normals +z
+  const int n = 21;
+  std::vector<Eigen::Vector3d> V, N(n * n, Eigen::Vector3d::UnitZ());
+  std::vector<Eigen::Vector3i> F;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) V.emplace_back(x, y, 0);
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      const int a = y * n + x;
+      F.emplace_back(a, a + 1, a + n + 1);
+      F.emplace_back(a, a + n + 1, a + n);
+    }
+  const Topology topo = build_topology(F, n * n);
+  const std::vector<double> fp(n * n, 1.0);
+  const int centre = 10 * n + 10;
+  std::vector<Eigen::Vector3d> fsil(n * n, Eigen::Vector3d::Zero());
+  fsil[centre] = Eigen::Vector3d(0.3, 0, 1.0);  // a pull of 1 px outward (and across)
+  const SpreadOptions o{4.0, 1.0, 2.5};
+  const std::vector<double> s = silhouette_spread(V, N, fp, topo, fsil, o);
+  EXPECT_EQ(s[centre], 0.0);                          // the corrected vertex moves by its own correction
+  EXPECT_NEAR(s[centre + 1], 1.0 * (1 - 1.0 / 4), 1e-12);  // one pixel away: 3/4 of the pull's normal part
+  EXPECT_NEAR(s[centre + 2], 1.0 * (1 - 2.0 / 4), 1e-12);
+  EXPECT_NEAR(s[centre + 3], 1.0 * (1 - 3.0 / 4), 1e-12);
+  EXPECT_EQ(s[centre + 4], 0.0);                      // out of reach
+  EXPECT_EQ(s[centre - 5 * n], 0.0);
+  EXPECT_NEAR(s[centre + n + 1], 1.0 * (1 - std::sqrt(2.0) / 4), 1e-12);  // along a diagonal edge
+  // in the pixels of images reduced four times the grid's edges are a quarter pixel long
+  EXPECT_NEAR(silhouette_spread(V, N, fp, topo, fsil, {4.0, 4.0, 2.5})[centre + 4], 1.0 * (1 - 1.0 / 4), 1e-12);
+  // inward pushes and pulls of max_source_px or more do not spread; no reach, no spread
+  fsil[centre].z() = -1.0;
+  for (double x : silhouette_spread(V, N, fp, topo, fsil, o)) EXPECT_EQ(x, 0.0);
+  fsil[centre].z() = 2.6;
+  for (double x : silhouette_spread(V, N, fp, topo, fsil, o)) EXPECT_EQ(x, 0.0);
+  fsil[centre].z() = 1.0;
+  for (double x : silhouette_spread(V, N, fp, topo, fsil, {0.0, 1.0, 2.5})) EXPECT_EQ(x, 0.0);
+  // two pulls: a vertex between them takes their mean
+  fsil[centre + 4] = Eigen::Vector3d(0, 0, 2.0);
+  EXPECT_NEAR(silhouette_spread(V, N, fp, topo, fsil, o)[centre + 2], 1.5 * (1 - 2.0 / 4), 1e-12);
+}
+
 TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   const Options o = Options::from_params(Params::defaults());
   // (that the fields' defaults are defaults.json's values: test_param_binding.cpp)
