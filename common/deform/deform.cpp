@@ -441,6 +441,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
       max_px = std::max(max_px, l / M.fp[v]);
       st.reduced_vertices += reduced[v] != 0;
       st.rim_vertices += rim[v] > 0;
+      st.spread_vertices += fspread[v] != 0;
     }
     st.mean_move = nv ? sum_move / nv : 0;
     st.mean_move_px = nv ? sum_px / nv : 0;
@@ -475,7 +476,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     info("deform: iteration ", it, ": move ", st.mean_move_px, " px (max ", st.max_move_px, "), photometric level ",
          st.photo_level, " NCC ", st.mean_ncc, " (", st.photo_pixels, " pixels, ", 100 * st.photo_moved, "% moved, |step| ",
-         st.mean_photo_step_px, " px), rim ", st.rim_vertices, ", IoU ", st.silhouette_iou, ", ", st.vertices, " v ", st.faces, " f, +",
+         st.mean_photo_step_px, " px), rim ", st.rim_vertices, " (+", st.spread_vertices, " reached), IoU ", st.silhouette_iou, ", ", st.vertices, " v ", st.faces, " f, +",
          st.splits, " -", st.collapses, " ~", st.flips, ", folds -", folds, ", reduced ", st.reduced_vertices, ", intersections ",
          st.intersections, ", ", st.seconds, " s");
     info("deform: iteration ", it, " seconds (wall/cpu): ", part_summary(st.part_seconds, st.part_cpu_seconds));

@@ -49,6 +49,7 @@ struct IterationStats {
   double photo_moved = 0;          // fraction of vertices with a photometric step
   double mean_photo_step_px = 0;   // mean |photometric step| of those vertices (full-resolution pixels)
   std::int64_t rim_vertices = 0;   // vertices on a silhouette rim in at least one view
+  std::int64_t spread_vertices = 0;  // vertices moved by the silhouette's reach around the rim (deform.sil_spread_px)
   double silhouette_iou = -1;      // mean IoU of the mesh's silhouettes before the move (-1: no silhouettes)
   std::int64_t splits = 0, collapses = 0, flips = 0;
   std::int64_t reduced_vertices = 0;  // vertices whose step was reduced to avoid intersections

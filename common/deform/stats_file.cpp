@@ -26,6 +26,7 @@ h5::Fields<Result> make_stats_fields() {
       .dataset("/iterations/photo_moved", per_iteration(&IterationStats::photo_moved))
       .dataset("/iterations/mean_photo_step_px", per_iteration(&IterationStats::mean_photo_step_px))
       .dataset("/iterations/rim_vertices", per_iteration(&IterationStats::rim_vertices))
+      .dataset("/iterations/spread_vertices", per_iteration(&IterationStats::spread_vertices))
       .dataset("/iterations/silhouette_iou", per_iteration(&IterationStats::silhouette_iou))
       .dataset("/iterations/splits", per_iteration(&IterationStats::splits))
       .dataset("/iterations/collapses", per_iteration(&IterationStats::collapses))

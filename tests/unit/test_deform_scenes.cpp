@@ -209,6 +209,10 @@ TEST(DeformScene, WithoutSilhouettesTextureAloneImproves) {
   expect_same_topology(none);
   EXPECT_EQ(none.res.final_iou, -1.0);
   EXPECT_EQ(none.res.iterations[0].rim_vertices, 0);
+  for (const auto& it : none.res.iterations) EXPECT_EQ(it.spread_vertices, 0);  // no rim, no reach
+  std::int64_t reached = 0;
+  for (const auto& it : half.res.iterations) reached += it.spread_vertices;
+  EXPECT_GT(reached, 0);
   EXPECT_LT(none.acc1, 0.25);  // measured 0.17
 }
 
