@@ -1,7 +1,10 @@
 #include "common/label/evidence.h"
 
 #include <algorithm>
+#include <cmath>
 #include <opencv2/core.hpp>
+
+#include "common/label/votes.h"
 
 namespace tetmvs::label {
 
@@ -11,7 +14,7 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
   ViewEvidence e;
   e.inside.assign(C, 0.0f);
   e.outside.assign(C, 0.0f);
-  for (auto* a : {&e.free_views, &e.beyond_views, &e.hidden_views, &e.seen_views, &e.facts}) a->assign(C, 0);
+  for (auto* a : {&e.free_views, &e.beyond_views, &e.hidden_views, &e.seen_views, &e.at_views, &e.facts}) a->assign(C, 0);
   e.hidden_depth.assign(C, -1.0f);
   const bool exits = o.seen_free_views > 0;
   const auto u8 = [](int n) { return static_cast<std::uint8_t>(std::min(n, 255)); };
@@ -27,7 +30,7 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
     d.front[v].release(), d.back[v].release(), d.near[v].release(), d.far[v].release();
   }
   struct Counts {
-    int hidden, free_space, beyond, seen, outside_views, shell_hidden, exited, gaps;
+    int hidden, free_space, beyond, seen, outside_views, shell_hidden, exited, gaps, at;
   };
 #pragma omp parallel
   {
@@ -60,6 +63,7 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
           const float df = px[i][0], db = px[i][1], dn = px[i][2], dx = px[i][3];
           const bool is_free = dn != 0 && z < dn - o.margin, is_beyond = dx != 0 && z > dx + o.margin;
           k.free_space += is_free;
+          k.at += df != 0 && std::abs(z - df) <= o.margin;
           k.beyond += is_beyond;
           k.outside_views += is_free || is_beyond;
           if (df != 0 && db != 0 && z > df + o.margin && z < db - o.margin) {
@@ -81,6 +85,7 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
         e.beyond_views[c] = u8(k.beyond);
         e.hidden_views[c] = u8(k.hidden);
         e.seen_views[c] = u8(k.seen);
+        e.at_views[c] = u8(k.at);
         // the depth reached in min_views of the hiding views (robust to a stray point of Q)
         double shallowest = -1;
         if (k.gaps >= o.min_views) {
@@ -107,6 +112,72 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
     }
   }
   return e;
+}
+
+namespace {
+
+// Q with each point's views reduced to those that see it: the point lies at most `shell`
+// behind the visible side of the points scoring at least Q's median. Points left without a
+// view are dropped.
+QPoints seen_points(const Scene& s, const QPoints& q, double cell, double shell, std::int64_t& dropped_views) {
+  std::vector<float> sc = q.score;
+  std::nth_element(sc.begin(), sc.begin() + static_cast<std::ptrdiff_t>(sc.size() / 2), sc.end());
+  const float median = sc[sc.size() / 2];
+  std::vector<std::uint8_t> weak(q.size());
+  for (std::int64_t p = 0; p < q.size(); ++p) weak[p] = q.score[p] < median;
+  const DepthMaps trusted = q_visible_side(s, keep_points(q, weak), cell);
+  QPoints out;
+  std::vector<std::int32_t> views;
+  for (std::int64_t p = 0; p < q.size(); ++p) {
+    const Eigen::Vector3d X = q.pos(p);
+    views.clear();
+    for (std::int64_t k = q.cam_offsets[p]; k < q.cam_offsets[p + 1]; ++k) {
+      const int v = q.cams[k];
+      double z;
+      int u, w;
+      const bool seen = nearest_pixel(s.cams[v], X, z, u, w) && [&] {
+        const float front = trusted.front[v].at<float>(w, u);
+        return front == 0 || front >= z - shell;
+      }();
+      if (seen)
+        views.push_back(v);
+      else
+        ++dropped_views;
+    }
+    if (!views.empty()) out.add(X, q.nrm(p), q.score[p], views, q.face[p]);
+  }
+  return out;
+}
+
+}  // namespace
+
+SightLines add_sight_lines(const tet::TetMesh& m, const MeshPoints& pts, const Scene& s, const QPoints& q,
+                           const std::vector<std::uint8_t>& free_cell, const EvidenceOptions& o, double cell,
+                           ViewEvidence& e) {
+  const std::int32_t C = m.num_cells();
+  SightLines out;
+  if (q.size() == 0) {
+    out.rays.assign(C, 0);
+    return out;
+  }
+  const double shell_px = o.shell / o.pixel;
+  std::vector<std::uint8_t> behind(C, 0);
+  for (std::int32_t c = 0; c < C; ++c) {
+    const bool in_shell = e.hidden_depth[c] >= 0 && e.hidden_depth[c] <= shell_px;
+    behind[c] = free_cell[c] && e.seen_views[c] > 0 && !in_shell && e.hidden_views[c] > e.at_views[c];
+  }
+  const QPoints seen = seen_points(s, q, cell, o.shell, out.hidden_views);
+  out.rays = visibility_votes(m, s, seen, o.margin, &out.cast, &behind, &pts);
+  for (std::int32_t c = 0; c < C; ++c) {
+    if (!behind[c] || out.rays[c] == 0) continue;
+    ++out.cells;
+    const double before = e.outside[c];
+    const double after = std::min(1.0, o.free_weight * out.rays[c] / e.seen_views[c]);
+    if (after <= before) continue;
+    e.inside[c] = before < 1 ? static_cast<float>(e.inside[c] * (1 - after) / (1 - before)) : 0.0f;
+    e.outside[c] = static_cast<float>(after);
+  }
+  return out;
 }
 
 }  // namespace tetmvs::label

@@ -207,12 +207,15 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
     free_cell[c] = p.winner(c) < 0;
     candidate[c] = free_cell[c] && m.node_level[m.cell_node[c]] < finest;
   }
-  // 3. votes, and what the views see of the free cells
+  // 3. votes, what the views see of the free cells, and the lines of sight through those behind Q
   r.votes = visibility_votes(m, s, q, 0.5 * margin, &r.rays, &candidate, &pts);
   vote_percentiles(candidate, o, r);
   const double shell = o.interior_depth_px > 0 ? o.interior_depth_px * pixel : std::numeric_limits<double>::infinity();
-  ViewEvidence ev = view_evidence(m, pts, s, visible_side_maps(s, q, cell, o.seen_free_views > 0, margin), free_cell,
-                                        {margin, shell, o.min_views, o.free_weight, o.seen_free_views, pixel});
+  const EvidenceOptions eo{margin, shell, o.min_views, o.free_weight, o.seen_free_views, pixel};
+  ViewEvidence ev = view_evidence(m, pts, s, visible_side_maps(s, q, cell, o.seen_free_views > 0, margin), free_cell, eo);
+  SightLines sight = add_sight_lines(m, pts, s, q, free_cell, eo, cell, ev);
+  r.sight_rays = std::move(sight.rays);
+  r.sight_cells = sight.cells, r.sight_cast = sight.cast, r.unseen_views = sight.hidden_views;
   // 4. the rules from Q and the priors, decided by the precedence table
   if (o.hull_core_px > 0) p.add(Rule::kHullCore, hull_core_rule(in, free_cell));
   p.add(Rule::kSeenFree, seen_free_cells(in, ev, r));

@@ -11,7 +11,8 @@
 //     exterior (the silhouettes estimated from Q in scenes without any).
 //  3. Votes (paper): every point of Q casts a ray to each camera it is consistent in
 //     (votes.h); and for every free cell, what each view sees of it against Q's depth maps
-//     (evidence.h): free space in front of Q, hidden behind Q, beyond Q's far side.
+//     (evidence.h): free space in front of Q, hidden behind Q, beyond Q's far side; behind
+//     Q, the rays that cross a cell count as views seeing through it (lines of sight).
 //  4. Rules (rules.h, with the one precedence table): the paper's voted_out (many votes) and
 //     hidden (few votes, hidden behind Q), the latter only in a shell under Q's visible side;
 //     the extensions hull_core, seen_free, conflict and seed_core.
@@ -95,9 +96,9 @@ struct Result {
   std::vector<std::uint8_t> reason;  // Reason (common/reason.h)
   std::vector<std::int32_t> votes;   // visibility votes (counted where they can decide a label)
   // Soft evidence per free cell, in [0, 1], for the cut's visibility term: outside =
-  // min(1, free_weight x views where the cell is free space or beyond Q's far side / views
-  // where it projects); inside = (1 - outside) x the share of those views in which it lies
-  // between Q's visible and far sides.
+  // min(1, free_weight x views where the cell is free space or beyond Q's far side (behind Q:
+  // or the rays of Q crossing it, if more) / views where it projects); inside = (1 - outside)
+  // x the share of those views in which it lies between Q's visible and far sides.
   std::vector<float> inside_evidence, outside_evidence;
   // Per free cell, the number of views in which its centre is free space (in front of the
   // visible side of Q by the margin), beyond Q's far side, between the two (hidden), and the
@@ -106,6 +107,11 @@ struct Result {
   // Per free cell, the depth (pixels at its depth) of its centre behind Q's visible side, the
   // smallest reached in min_views of the views hiding it (-1: fewer views hide it).
   std::vector<float> hidden_depth;
+  // Lines of sight (evidence.h, add_sight_lines): per cell, the rays of Q crossing it where
+  // it lies behind Q (0 elsewhere); the cells they reach, the rays cast, and the views
+  // dropped from points of Q hidden in them.
+  std::vector<std::int32_t> sight_rays;
+  std::int64_t sight_cells = 0, sight_cast = 0, unseen_views = 0;
   double low_votes = 0, high_votes = 0;           // the percentile values
   std::array<std::int64_t, kNumRules> cells{};    // cells each rule labels (rules.h)
   std::array<std::int64_t, kNumFilters> dropped{};  // points of Q each filter drops (q_filters.h)

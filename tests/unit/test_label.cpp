@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/label/depth_maps.h"
+#include "common/label/evidence.h"
 #include "common/label/hull.h"
 #include "common/label/labels.h"
 #include "common/label/votes.h"
@@ -791,4 +792,108 @@ TEST(Label, DepthMapsEqualStampingEveryDisc) {
       EXPECT_EQ(cv::countNonZero(back != d.back[v]), 0) << "view " << v << ", cell " << cell;
     }
   }
+}
+
+namespace {
+
+// What the views see of every cell (all taken as free) of a case with the given Q, before
+// and after the lines of sight; the options' depths in the case's pixels.
+struct SightCase {
+  label::ViewEvidence before, after;
+  label::SightLines sight;
+};
+
+SightCase sight_lines(const CupCase& k, const QPoints& q, const label::Options& o) {
+  const double cell = tet::red_edge_length(k.mesh.lat, k.mesh.max_cell_level());
+  const double px = label::pixel_size(k.scene);
+  const label::EvidenceOptions eo{o.depth_margin_px * px, o.interior_depth_px * px, o.min_views, o.free_weight, 0, px};
+  const label::MeshPoints pts(k.mesh);
+  const std::vector<std::uint8_t> all(k.mesh.num_cells(), 1);
+  SightCase out;
+  out.before = label::view_evidence(k.mesh, pts, k.scene,
+                                    label::visible_side_maps(k.scene, q, cell, false, eo.margin), all, eo);
+  out.after = out.before;
+  out.sight = label::add_sight_lines(k.mesh, pts, k.scene, q, all, eo, cell, out.after);
+  return out;
+}
+
+// The views in which X lies in front of the ground truth (not hidden by it).
+std::vector<std::int32_t> views_seeing(const CupCase& k, const std::vector<Raster>& depth, const Eigen::Vector3d& X) {
+  std::vector<std::int32_t> out;
+  for (int v = 0; v < k.scene.size(); ++v) {
+    const Camera& cam = k.scene.cams[v];
+    const Eigen::Vector2d p = cam.project(X);
+    const int u = static_cast<int>(std::lround(p.x())), w = static_cast<int>(std::lround(p.y()));
+    if (u < 0 || w < 0 || u >= cam.width || w >= cam.height) continue;
+    if (cam.depth(X) < depth[v].depth.at<float>(w, u)) out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace
+
+// Lines of sight (label::add_sight_lines). A lid of false points floating in the cup's
+// cavity, consistent in every view that sees it (as the band of Q in front of a real cup's
+// far wall is), hides the seen air under it from the depth maps; the rays of the far wall's
+// points still cross that air, and its outside evidence rises. No cell inside the cup gains
+// any. False points deep inside the sphere, consistent in views that see the surface in
+// front of them, cast no ray there (those views do not see them): no cell inside the sphere
+// gains evidence either.
+TEST(Label, SightLinesReachTheAirUnderFalsePointsNotTheMatter) {
+  const CupCase& k = cup();
+  const label::Options o = in_cells(k, 2.5);  // the seen band of the cavity is 0.55 deep
+  std::vector<Raster> depth;
+  for (const auto& cam : k.scene.cams) depth.push_back(rasterize(k.gt, cam));
+  QPoints q = k.q;
+  for (double x = -0.6; x <= 0.6; x += 0.04)
+    for (double y = -0.6; y <= 0.6; y += 0.04) {
+      const Eigen::Vector3d X(x, y, 1.95);
+      if (std::hypot(x, y) > 0.6) continue;
+      const auto cams = views_seeing(k, depth, X);
+      if (cams.size() >= 2) q.add(X, Eigen::Vector3d(0, 0, 1), 0.7f, cams, -1);
+    }
+  ASSERT_GT(q.size(), k.q.size() + 100);
+  const double cell = tet::red_edge_length(k.mesh.lat, k.mesh.max_cell_level());
+  const SightCase s = sight_lines(k, q, o);
+  std::int64_t air_before = 0, air_after = 0, matter_raised = 0;
+  for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c) {
+    const Eigen::Vector3d x = k.mesh.cell_centroid(c);
+    if (k.in_cavity[c] && x.z() < 1.95 - cell) {  // the air under the lid
+      air_before += s.before.outside[c] > s.before.inside[c];
+      air_after += s.after.outside[c] > s.after.inside[c];
+    }
+    matter_raised += k.in_gt[c] && k.bvh.closest(x).dist() > cell && s.after.outside[c] > s.before.outside[c];
+  }
+  std::printf("cup with a lid: %lld cells (%lld rays) behind Q crossed by rays, %lld views dropped; cavity cells under "
+              "the lid leaning outside %lld -> %lld; cells inside the cup raised %lld\n",
+              (long long)s.sight.cells, (long long)s.sight.cast, (long long)s.sight.hidden_views, (long long)air_before,
+              (long long)air_after, (long long)matter_raised);
+  EXPECT_GT(s.sight.cells, 0);
+  EXPECT_GT(air_after, 2 * air_before + 20);
+  EXPECT_EQ(matter_raised, 0);
+
+  const CupCase& b = sphere();
+  std::vector<Raster> sdepth;
+  for (const auto& cam : b.scene.cams) sdepth.push_back(rasterize(b.gt, cam));
+  QPoints qs = b.q;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uni(-0.5, 0.5);
+  for (int i = 0; i < 400; ++i) {  // false points deep inside, "consistent" in the views facing the surface over them
+    const Eigen::Vector3d X(uni(rng), uni(rng), 1.0 + uni(rng));
+    if ((X - Eigen::Vector3d(0, 0, 1)).norm() > 0.5) continue;
+    std::vector<std::int32_t> cams;
+    for (int v = 0; v < b.scene.size(); ++v)
+      if ((b.scene.cams[v].centre() - Eigen::Vector3d(0, 0, 1)).normalized().dot((X - Eigen::Vector3d(0, 0, 1)).normalized()) > 0.3)
+        cams.push_back(v);
+    if (cams.size() >= 2) qs.add(X, (X - Eigen::Vector3d(0, 0, 1)).normalized(), 0.7f, cams, -1);
+  }
+  const double scell = tet::red_edge_length(b.mesh.lat, b.mesh.max_cell_level());
+  const SightCase t = sight_lines(b, qs, in_cells(b, 2.5));
+  std::int64_t raised = 0;
+  for (std::int32_t c = 0; c < b.mesh.num_cells(); ++c)
+    raised += b.in_gt[c] && b.bvh.closest(b.mesh.cell_centroid(c)).dist() > scell && t.after.outside[c] > t.before.outside[c];
+  std::printf("sphere with false points inside: %lld views dropped, cells inside raised %lld\n",
+              (long long)t.sight.hidden_views, (long long)raised);
+  EXPECT_GT(t.sight.hidden_views, 200);
+  EXPECT_EQ(raised, 0);
 }
