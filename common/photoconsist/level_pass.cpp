@@ -530,6 +530,7 @@ LevelResult run_level(const LevelInput& in, const Options& opts) {
     const std::int64_t k = job_of[q];
     const photo::PointResult& r = best[k];
     if (!r.valid()) continue;  // no crest within reach of the face (or, never, undefined): not a point of Q
+    if (qcams[k].size() < 2) continue;  // no view agrees with the reference at the crest: not seen consistently
     R.points.add(bestX[k], r.normal(), r.score, qcams[k], R.face[cross[q]]);
   }
 

@@ -54,7 +54,7 @@ struct PointMeasure {
   int k = 8;                   // photo.point_k: cameras per patch (0: photo.k)
   int partners = 6;            // photo.point_partners: k' (0: max(k/2, 3))
   bool detrend = true;         // photo.point_detrend
-  bool outline_fill = false;   // photo.point_outline_fill (photo::Options::outline_fill)
+  bool outline_fill = true;    // photo.point_outline_fill (photo::Options::outline_fill)
   // `face` with the above, scoring with fewer than k views when fewer are usable (adaptive_k).
   photo::Options applied_to(const photo::Options& face) const;
   void check() const;  // throws Error on a value outside its documented range

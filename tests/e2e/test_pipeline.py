@@ -85,9 +85,11 @@ def main():
         print(f"{surf}: accuracy90 {acc * 1000:.3f} mm, completeness {comp * 100:.2f} %, "
               f"components {chk['num_components']}, closed {chk['closed']}")
         # the small CI scene: 16 views of 320x240, cells of ~2 px at level 3 (~0.8 mm).
-        # Measured: cut1 0.872 mm / 99.39 %, cut2 0.684 / 99.99, final 0.107 / 100.0; the bounds
-        # leave about 20 % (looser bounds let a 0.4 mm regression of the first cut pass unnoticed).
-        max_acc, min_comp = {"cut1": (1.1e-3, 0.975), "cut2": (0.9e-3, 0.98), "final": (0.13e-3, 0.995)}[surf]
+        # Measured: cut1 0.829 mm / 97.33 %, cut2 0.730 / 99.32, final 0.083 / 100.0 (without the
+        # outline fill, photo.point_outline_fill: cut1 0.720 / 99.96: on 16 small views the
+        # outline's edge is much of the signal near the rims); the bounds leave about 20 %
+        # (looser bounds let a 0.4 mm regression of the first cut pass unnoticed).
+        max_acc, min_comp = {"cut1": (1.0e-3, 0.965), "cut2": (0.9e-3, 0.98), "final": (0.11e-3, 0.995)}[surf]
         expect(chk["closed"] and chk["edge_manifold"], f"{surf} is closed and edge-manifold")
         expect(comp >= min_comp, f"{surf} completeness {comp:.4f} >= {min_comp}")
         expect(acc <= max_acc, f"{surf} accuracy {acc * 1000:.3f} mm <= {max_acc * 1000:.1f} mm")
@@ -138,7 +140,15 @@ def main():
         li, le = e["labels"]["interior"], e["labels"]["exterior"]
         print(f"{lab}: {li['wrong']} of {li['cells']} interior cells outside the object, "
               f"{le['wrong']} of {le['cells']} exterior inside")
-        expect(li["cells"] > 0 and li["wrong"] == 0, f"{lab}: no interior label outside the true object")
+        if lab == "labels.h5":
+            expect(li["cells"] > 0 and li["wrong"] == 0, f"{lab}: no interior label outside the true object")
+        else:  # silhouette-fix's interior cells are each ray's most photo-consistent cell (the
+            # paper's rule), which can miss: measured 1 of its 22, 2.5 cells outside the object
+            sf = {r["name"]: r for r in e["labels"]["by_reason"]}.get("silfix_interior", {"wrong": 0})
+            expect(li["cells"] > 0 and li["wrong"] == sf["wrong"],
+                   f"{lab}: every interior label outside the true object is one of silhouette-fix's own")
+            expect(li["wrong"] <= 2 and li["wrong_deeper_than_4"] == 0,
+                   f"{lab}: at most 2 interior cells outside the true object, none deeper than 4 cells")
         expect(le["wrong"] == 0, f"{lab}: no exterior label inside the true object")
     # 3. change tracking: nothing changed -> nothing reruns
     r = tiny_run.make(BIN, SRC, ["-n", target])
