@@ -97,7 +97,10 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
         if (k.seen > 0) {
           const double out = std::min(1.0, o.free_weight * k.outside_views / k.seen);
           e.outside[c] = static_cast<float>(out);
-          e.inside[c] = static_cast<float>((1.0 - out) * k.hidden / k.seen);
+          // inside evidence, like the interior label, only within the shell behind Q: deeper
+          // lies the matter of a thick body or the air of a cavity behind false points alike
+          const bool too_deep = shallowest > o.shell;
+          e.inside[c] = too_deep ? 0.0f : static_cast<float>((1.0 - out) * k.hidden / k.seen);
         }
         std::uint8_t f = 0;
         if (k.free_space == 0 && k.beyond == 0) {
