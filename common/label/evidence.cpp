@@ -138,11 +138,9 @@ QPoints seen_points(const Scene& s, const QPoints& q, double cell, double shell,
       const int v = q.cams[k];
       double z;
       int u, w;
-      const bool seen = nearest_pixel(s.cams[v], X, z, u, w) && [&] {
-        const float front = trusted.front[v].at<float>(w, u);
-        return front == 0 || front >= z - shell;
-      }();
-      if (seen)
+      const bool in_image = nearest_pixel(s.cams[v], X, z, u, w);
+      const float front = in_image ? trusted.front[v].at<float>(w, u) : 0.0f;
+      if (in_image && (front == 0 || front >= z - shell))
         views.push_back(v);
       else
         ++dropped_views;
