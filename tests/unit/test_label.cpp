@@ -168,8 +168,10 @@ TEST(Label, CupLabelsAreNeverWrong) {
   label::Options o;
   // A pixel here is 0.02 at the object: the walls (0.25) are 12.5 px, thinner than the
   // pipeline's cup walls (about 31 px with dinoRing's cameras) that the default suits; 20 px
-  // keeps the cavity free.
+  // keeps the cavity free. The hull depth likewise: the seen air lies 0 to 0.55 (27 px)
+  // under the rim, so 7 px.
   o.interior_depth_px = 20;
+  o.hull_depth_px = 7;
   const label::Result r = label::label_cells(k.mesh, k.scene, k.q, o);
   const Wrong w = count_wrong(k, r);
   std::printf("cup: %lld cells, %lld points; interior %lld (%lld outside the cup), exterior %lld (%lld inside), "
@@ -493,6 +495,7 @@ TEST(Label, VotedOutCellsLieDeepInsideTheHull) {
   const CupCase k(spec);
   label::Options o;
   o.interior_depth_px = 20;
+  o.hull_depth_px = 0;  // without the test
   const auto wrong_voted_out = [&](const CupCase& kk, const label::Result& r) {
     std::int64_t n = 0;
     for (std::int32_t c = 0; c < kk.mesh.num_cells(); ++c) n += r.reason[c] == kVotedOut && kk.in_gt[c];
@@ -511,15 +514,16 @@ TEST(Label, VotedOutCellsLieDeepInsideTheHull) {
   EXPECT_EQ(on.count(label::Rule::kVotedOut) + on.voted_out_near_hull, off.count(label::Rule::kVotedOut));  // the test only takes
   EXPECT_EQ(count_wrong(k, on).exterior, 0);
 
-  // The cost, and why the test is off by default: the right voted-out cells near the hull's
-  // surface go too (here the hull's excess above and below the sphere, which ring cameras
-  // cannot carve; in a cup, the air near the rim).
+  // The cost: the right voted-out cells near the hull's surface go too (here the hull's
+  // excess above and below the sphere, which ring cameras cannot carve; in a cup, the air
+  // near the rim). The soft evidence keeps them outside in the cut.
   EXPECT_EQ(on.count(label::Rule::kVotedOut), 0);
   // graded: a shallower test keeps the cells deeper than it (the constructed cup, exact Q:
   // fewer voted out at 2.5 px, fewer still at 5 px, none at 10 px)
   const CupCase& cup_k = cup();
   label::Options oc;
   oc.interior_depth_px = 20;
+  oc.hull_depth_px = 0;
   const std::int64_t n0 = label::label_cells(cup_k.mesh, cup_k.scene, cup_k.q, oc).count(label::Rule::kVotedOut);
   oc.hull_depth_px = 2.5;
   const std::int64_t n_half = label::label_cells(cup_k.mesh, cup_k.scene, cup_k.q, oc).count(label::Rule::kVotedOut);
