@@ -65,7 +65,7 @@ struct Options {
   // seen_free and voted_out: this deep inside every silhouette (pixels; 0 = no test): under a
   // surface that a silhouette bounds, Q's band lies inside the matter, which then looks free.
   double hull_depth_px = 28;
-  double interior_min_share = 0;      // hidden: in a group of this share of the largest (0 = no test)
+  double interior_min_share = 0.01;   // hidden: in a group of this share of the largest (0 = no test)
   double conflict_px = 0;             // conflict: reach in pixels at the object (0 = off)
   QSilhouetteOptions q_sil;           // silhouettes estimated from Q (scenes without any)
   // Throws Error on a bad value: the documented ranges (q_sil's too), low_percentile <

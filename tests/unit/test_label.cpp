@@ -577,6 +577,7 @@ TEST(Label, SmallGroupsOfCellsAreIslands) {
   const CupCase& k = sphere();
   label::Options o;
   o.interior_depth_px = 20;
+  o.interior_min_share = 0;
   const label::Result off = label::label_cells(k.mesh, k.scene, k.q, o);
   o.interior_min_share = 0.01;
   const label::Result on = label::label_cells(k.mesh, k.scene, k.q, o);
