@@ -516,7 +516,7 @@ TEST(Label, VotedOutCellsLieDeepInsideTheHull) {
 
   // The cost: the right voted-out cells near the hull's surface go too (here the hull's
   // excess above and below the sphere, which ring cameras cannot carve; in a cup, the air
-  // near the rim). The soft evidence keeps them outside in the cut.
+  // near the rim). On the bench scenes the cuts do not change (docs/architecture.md, 'Votes').
   EXPECT_EQ(on.count(label::Rule::kVotedOut), 0);
   // graded: a shallower test keeps the cells deeper than it (the constructed cup, exact Q:
   // fewer voted out at 2.5 px, fewer still at 5 px, none at 10 px)
