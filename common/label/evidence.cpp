@@ -30,7 +30,7 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
     d.front[v].release(), d.back[v].release(), d.near[v].release(), d.far[v].release();
   }
   struct Counts {
-    int hidden, free_space, beyond, seen, outside_views, shell_hidden, exited, gaps, at;
+    int hidden, free_space, beyond, seen, outside_views, wall_hidden, exited, gaps, at;
   };
 #pragma omp parallel
   {
@@ -69,7 +69,7 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
           if (df != 0 && db != 0 && z > df + o.margin && z < db - o.margin) {
             ++k.hidden;
             gaps[static_cast<std::size_t>(at[i]) * V + k.gaps++] = z - df;
-            k.shell_hidden += z - df <= o.shell;
+            k.wall_hidden += z - df <= o.wall;
             if (exits) {
               const float ex = d.exit[v].ptr<float>(0)[pix[i]], en = d.entry[v].ptr<float>(0)[pix[i]];
               k.exited += ex != 0 && ex < z - o.margin && (en == 0 || en > z - o.margin);
@@ -108,7 +108,7 @@ ViewEvidence view_evidence(const tet::TetMesh& m, const MeshPoints& pts, const S
           if (k.hidden >= o.min_views) f |= shallowest <= o.shell ? kHiddenInShell : kHiddenTooDeep;
         }
         if (k.free_space >= o.min_views) f |= kFreeInViews;
-        if (exits && k.free_space >= o.seen_free_views && k.shell_hidden == 0 && k.exited >= 0.5 * k.hidden)
+        if (exits && k.free_space >= o.seen_free_views && k.wall_hidden == 0 && k.exited >= 0.5 * k.hidden)
           f |= kSeenFreeAir;
         e.facts[c] = f;
       }

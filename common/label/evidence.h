@@ -15,6 +15,7 @@ namespace tetmvs::label {
 struct EvidenceOptions {
   double margin = 0;         // depth margin, world units
   double shell = 0;          // how deep behind Q's visible side the hidden rule reaches (world; infinity: no limit)
+  double wall = 0;           // seen free air lies at least this deep behind Q's visible side in every hiding view (world)
   int min_views = 3;
   double free_weight = 2;
   int seen_free_views = 0;   // 0: no seen-free facts (needs DepthMaps exit / entry otherwise)
@@ -26,7 +27,7 @@ enum Fact : std::uint8_t {
   kHiddenInShell = 1,   // hidden in min_views views, free and beyond in none, within the shell
   kHiddenTooDeep = 2,   // the same, but deeper than the shell
   kFreeInViews = 4,     // free space in min_views views
-  kSeenFreeAir = 8,     // free in seen_free_views views, hidden within the shell in none, and
+  kSeenFreeAir = 8,     // free in seen_free_views views, hidden within the wall depth in none, and
                         // behind a wall in half the views hiding it
   kNeverFree = 16,      // free space and beyond Q in no view
 };

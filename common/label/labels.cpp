@@ -211,7 +211,7 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   r.votes = visibility_votes(m, s, q, 0.5 * margin, &r.rays, &candidate, &pts);
   vote_percentiles(candidate, o, r);
   const double shell = o.interior_depth_px > 0 ? o.interior_depth_px * pixel : std::numeric_limits<double>::infinity();
-  const EvidenceOptions eo{margin, shell, o.min_views, o.free_weight, o.seen_free_views, pixel};
+  const EvidenceOptions eo{margin, shell, o.seen_free_wall_px * pixel, o.min_views, o.free_weight, o.seen_free_views, pixel};
   ViewEvidence ev = view_evidence(m, pts, s, visible_side_maps(s, q, cell, o.seen_free_views > 0, margin), free_cell, eo);
   SightLines sight = add_sight_lines(m, pts, s, q, free_cell, eo, cell, ev);
   r.sight_rays = std::move(sight.rays);

@@ -58,9 +58,10 @@ struct Options {
   double hull_core_px = 0;
   // seed_core (0 = off): when no other rule gives an interior cell, the hull core at this margin.
   double seed_core_px = 1.5;
-  // seen_free (0 = off): free space in this many views, hidden in no view within the shell,
-  // behind a wall in half of the views hiding it, ...
-  int seen_free_views = 0;
+  // seen_free (0 = off): free space in this many views, hidden in no view within
+  // seen_free_wall_px behind Q's visible side, behind a wall in half of the views hiding it, ...
+  int seen_free_views = 1;
+  double seen_free_wall_px = 45;
   int seen_free_min_cells = 2;        // ... in a face-connected group of this many (not a parameter)
   // seen_free and voted_out: this deep inside every silhouette (pixels; 0 = no test): under a
   // surface that a silhouette bounds, Q's band lies inside the matter, which then looks free.
@@ -84,6 +85,7 @@ struct Options {
         {"label.hull_core_px", &Options::hull_core_px},
         {"label.seed_core_px", &Options::seed_core_px},
         {"label.seen_free_views", &Options::seen_free_views},
+        {"label.seen_free_wall_px", &Options::seen_free_wall_px},
         {"label.hull_depth_px", &Options::hull_depth_px},
         {"label.interior_min_share", &Options::interior_min_share},
         {"label.conflict_px", &Options::conflict_px},

@@ -341,6 +341,7 @@ TEST(Label, HullOfQCarvesAndDropsFalsePoints) {
   label::Options o;
   o.interior_depth_px = 20;
   o.q_sil.close_px = 2;
+  o.seen_free_views = 0;  // the rules of Q's hull alone
   const label::Result base = label::label_cells(k.mesh, s, k.q, o);
   QPoints q = k.q;
   // beside the sphere on the x axis, in the views that look along x (the sphere behind it)
@@ -407,6 +408,8 @@ TEST(Label, SeenFreeSpaceCarvesTheCavityNotTheWalls) {
   label::Options o;
   o.interior_depth_px = 20;
   o.hull_depth_px = 7;  // pixels of 0.02 here: the seen air lies 0 to 0.55 under the rim
+  o.seen_free_wall_px = 20;  // the walls here are 12.5 px thick
+  o.seen_free_views = 0;
   const auto cavity_exterior = [&](const label::Result& r) {
     std::int64_t n = 0;
     for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c) n += k.in_cavity[c] && r.label[c] == -1;
@@ -442,6 +445,7 @@ TEST(Label, SeenFreeSpaceCarvesTheCavityNotTheWalls) {
   };
   label::Options ot = in_cells(t, 4);
   ot.seen_free_views = 1;
+  ot.seen_free_wall_px = ot.interior_depth_px;
   ot.hull_depth_px = 1.5 * cell / label::pixel_size(t.scene);
   const auto [n_all, deep_all] = wrong(ot);
   ot.hull_depth_px = 0;  // without the hull test
@@ -466,6 +470,8 @@ TEST(Label, SeenFreeSpaceLeavesTheHullCoreAndTheVotesAlone) {
   label::Options o;
   o.interior_depth_px = 20;
   o.hull_core_px = 1.5;
+  o.seen_free_views = 0;
+  o.seen_free_wall_px = 20;
   const label::Result off = label::label_cells(k.mesh, k.scene, k.q, o);
   o.seen_free_views = 1;
   const label::Result on = label::label_cells(k.mesh, k.scene, k.q, o);
@@ -496,6 +502,7 @@ TEST(Label, VotedOutCellsLieDeepInsideTheHull) {
   label::Options o;
   o.interior_depth_px = 20;
   o.hull_depth_px = 0;  // without the test
+  o.seen_free_views = 0;  // the votes alone
   const auto wrong_voted_out = [&](const CupCase& kk, const label::Result& r) {
     std::int64_t n = 0;
     for (std::int32_t c = 0; c < kk.mesh.num_cells(); ++c) n += r.reason[c] == kVotedOut && kk.in_gt[c];
@@ -523,6 +530,7 @@ TEST(Label, VotedOutCellsLieDeepInsideTheHull) {
   const CupCase& cup_k = cup();
   label::Options oc;
   oc.interior_depth_px = 20;
+  oc.seen_free_views = 0;
   oc.hull_depth_px = 0;
   const std::int64_t n0 = label::label_cells(cup_k.mesh, cup_k.scene, cup_k.q, oc).count(label::Rule::kVotedOut);
   oc.hull_depth_px = 2.5;
@@ -599,6 +607,41 @@ TEST(Label, SmallGroupsOfCellsAreIslands) {
   EXPECT_GT(one.interior, 0);
 }
 
+// The seen-free rule's wall depth (label.seen_free_wall_px): every view that does not see the
+// cell as free space hides it at least this deep behind Q's visible side. A deeper wall keeps
+// a subset of the cells (fewer of the cavity's air near the near wall), and a wall deeper than
+// the scene keeps only cells that no view hides.
+TEST(Label, SeenFreeSpaceNeedsAWholeWall) {
+  const CupCase& k = cup();
+  label::Options o;
+  o.interior_depth_px = 20;
+  o.hull_depth_px = 7;
+  std::vector<std::uint8_t> hidden_somewhere;
+  const auto rule_cells = [&](double wall) {
+    o.seen_free_wall_px = wall;
+    const label::Result r = label::label_cells(k.mesh, k.scene, k.q, o);
+    std::vector<std::uint8_t> out(k.mesh.num_cells(), 0);
+    hidden_somewhere.assign(k.mesh.num_cells(), 0);
+    for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c)
+      out[c] = r.reason[c] == kSeenFree, hidden_somewhere[c] = r.hidden_views[c] > 0;
+    return out;
+  };
+  const auto count = [](const std::vector<std::uint8_t>& v) { return std::count(v.begin(), v.end(), 1); };
+  const auto thin = rule_cells(15), thick = rule_cells(20), none = rule_cells(1000);
+  std::int64_t none_hidden = 0;
+  for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c) none_hidden += none[c] && hidden_somewhere[c];
+  std::printf("cup: seen-free cells %lld with a 15 px wall, %lld with 20 px, %lld with 1000 px (%lld hidden in a view)\n",
+              (long long)count(thin), (long long)count(thick), (long long)count(none), (long long)none_hidden);
+  EXPECT_GT(count(thick), count(none));
+  EXPECT_LT(count(thick), count(thin));
+  EXPECT_EQ(none_hidden, 0);
+  for (std::int32_t c = 0; c < k.mesh.num_cells(); ++c) {
+    if (thick[c]) {
+      ASSERT_TRUE(thin[c]) << "cell " << c;
+    }
+  }
+}
+
 // The seen-free rule's group test (Options::seen_free_min_cells, 2 in the pipeline): only
 // groups of at least that many of the rule's cells are labelled; the rest keep the other
 // rules' labels.
@@ -608,6 +651,7 @@ TEST(Label, SeenFreeSpaceInGroupsOnly) {
   o.interior_depth_px = 20;
   o.hull_depth_px = 7;
   o.seen_free_views = 1;
+  o.seen_free_wall_px = 20;
   o.seen_free_min_cells = 0;  // every group
   const label::Result all = label::label_cells(k.mesh, k.scene, k.q, o);
   std::vector<std::uint8_t> rule(k.mesh.num_cells(), 0);
@@ -840,7 +884,7 @@ struct SightCase {
 SightCase sight_lines(const CupCase& k, const QPoints& q, const label::Options& o) {
   const double cell = tet::red_edge_length(k.mesh.lat, k.mesh.max_cell_level());
   const double px = label::pixel_size(k.scene);
-  const label::EvidenceOptions eo{o.depth_margin_px * px, o.interior_depth_px * px, o.min_views, o.free_weight, 0, px};
+  const label::EvidenceOptions eo{o.depth_margin_px * px, o.interior_depth_px * px, o.seen_free_wall_px * px, o.min_views, o.free_weight, 0, px};
   const label::MeshPoints pts(k.mesh);
   const std::vector<std::uint8_t> all(k.mesh.num_cells(), 1);
   SightCase out;
