@@ -15,7 +15,9 @@
 
 using namespace tetmvs;
 
-constexpr double kLabelBytesPerCell = 72, kLabelBytesPerPixel = 16;
+// per pixel of every view: Q's four depth maps (front, back, near, far), and with the seen-free
+// rule the exit and entry maps and their packed copies (DTU scan 37: +1.2 GB for 94 M pixels)
+constexpr double kLabelBytesPerCell = 72, kLabelBytesPerPixel = 16, kSeenFreeBytesPerPixel = 13;
 
 int main(int argc, char** argv) {
   StageCli cli("label",
@@ -34,10 +36,12 @@ int main(int argc, char** argv) {
     {
       // the mesh, per-cell results (label, reason, votes, two evidences, view counts, the
       // rules' proposals, the cells' centroids), and
-      // per view a few float images (depth maps of Q, distance transform of the silhouette)
+      // per view a few float images (depth maps of Q, distance transform of the silhouette;
+      // the exit and entry maps of the seen-free rule)
       const MeshCounts mc = mesh_counts(mesh_file);
       const double pixels = static_cast<double>(scene.size()) * scene.cams[0].width * scene.cams[0].height;
-      const double bytes = mc.read_bytes() + kLabelBytesPerCell * mc.cells + kLabelBytesPerPixel * pixels;
+      const double per_pixel = kLabelBytesPerPixel + (o.seen_free_views > 0 ? kSeenFreeBytesPerPixel : 0);
+      const double bytes = mc.read_bytes() + kLabelBytesPerCell * mc.cells + per_pixel * pixels;
       std::ostringstream what;
       what << "label: " << mesh_file << " (" << mc.cells << " cells, " << scene.size() << " views)";
       check_memory_budget(ctx.params, bytes, what.str(), "use a coarser final mesh (fewer LEVELS)");
