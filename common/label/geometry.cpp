@@ -26,30 +26,4 @@ void VertexProjection::compute(const Camera& cam, const MeshPoints& pts) {
   }
 }
 
-namespace {
-std::int64_t pack(const Eigen::Vector3d& b) {
-  const auto f = [](double v) { return static_cast<std::int64_t>(v) & 0x1FFFFF; };
-  return f(b.x()) | (f(b.y()) << 21) | (f(b.z()) << 42);
-}
-}  // namespace
-
-PointProximity::PointProximity(std::vector<Eigen::Vector3d> pts, double radius) : pts_(std::move(pts)), r_(radius) {
-  for (std::size_t p = 0; p < pts_.size(); ++p) buckets_[key(pts_[p])].push_back(p);
-}
-
-std::int64_t PointProximity::key(const Eigen::Vector3d& X) const { return pack((X / r_).array().floor()); }
-
-bool PointProximity::any_within(const Eigen::Vector3d& X) const {
-  const Eigen::Vector3d b = (X / r_).array().floor();
-  for (int dx = -1; dx <= 1; ++dx)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dz = -1; dz <= 1; ++dz) {
-        const auto it = buckets_.find(pack(b + Eigen::Vector3d(dx, dy, dz)));
-        if (it == buckets_.end()) continue;
-        for (std::size_t p : it->second)
-          if ((pts_[p] - X).squaredNorm() <= r_ * r_) return true;
-      }
-  return false;
-}
-
 }  // namespace tetmvs::label

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <unordered_map>
 #include <vector>
 
 #include "common/camera.h"
@@ -46,19 +45,6 @@ struct VertexProjection {
   std::vector<Eigen::Vector2d> px;
   std::vector<double> z;
   void compute(const Camera& cam, const MeshPoints& pts);
-};
-
-// Whether some point of a set lies within `radius` of X: a hash grid of bucket size radius.
-class PointProximity {
- public:
-  PointProximity(std::vector<Eigen::Vector3d> pts, double radius);
-  bool any_within(const Eigen::Vector3d& X) const;
-
- private:
-  std::int64_t key(const Eigen::Vector3d& X) const;
-  std::vector<Eigen::Vector3d> pts_;
-  double r_;
-  std::unordered_map<std::int64_t, std::vector<std::size_t>> buckets_;
 };
 
 }  // namespace tetmvs::label

@@ -1,4 +1,4 @@
-// Groups of cells joined by faces, and the nearness of two sets of cells (the conflict rule).
+// Groups of cells joined by faces.
 #include <algorithm>
 
 #include "common/error.h"
@@ -37,28 +37,6 @@ std::vector<std::uint8_t> small_groups(const tet::TetMesh& m, const std::vector<
   std::vector<std::uint8_t> small(size.size(), 0);
   for (std::size_t c = 0; c < size.size(); ++c) small[c] = in[c] && size[c] < share * largest;
   return small;
-}
-
-std::vector<std::uint8_t> conflicting_cells(const tet::TetMesh& m, const std::vector<std::uint8_t>& inside,
-                                            const std::vector<std::uint8_t>& outside,
-                                            const std::vector<float>& hidden_depth, double reach, double deep) {
-  const std::int32_t C = m.num_cells();
-  std::vector<std::uint8_t> yield(C, 0);
-  std::vector<Eigen::Vector3d> in_pts, out_pts;
-  for (std::int32_t c = 0; c < C; ++c) {
-    if (inside[c]) in_pts.push_back(m.cell_centroid(c));
-    if (outside[c]) out_pts.push_back(m.cell_centroid(c));
-  }
-  if (in_pts.empty() || out_pts.empty()) return yield;
-  const PointProximity near_inside(std::move(in_pts), reach), near_outside(std::move(out_pts), reach);
-#pragma omp parallel for schedule(dynamic, 1024)
-  for (std::int32_t c = 0; c < C; ++c) {
-    if (inside[c])
-      yield[c] = near_outside.any_within(m.cell_centroid(c));
-    else if (outside[c] && hidden_depth[c] >= 0 && hidden_depth[c] < deep)
-      yield[c] = near_inside.any_within(m.cell_centroid(c));
-  }
-  return yield;
 }
 
 }  // namespace tetmvs::label

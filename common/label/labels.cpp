@@ -127,19 +127,6 @@ std::vector<std::uint8_t> seen_free_cells(const Inputs& in, const ViewEvidence& 
   return out;
 }
 
-// conflict: cells that hidden, and seen_free or voted_out, label within conflict_px of each
-// other (the latter unless hidden deeper than the shell and that reach).
-std::vector<std::uint8_t> conflict_cells(const Inputs& in, const Decision& d, const ViewEvidence& ev) {
-  const std::int32_t C = in.m.num_cells();
-  std::vector<std::uint8_t> inside(C, 0), outside(C, 0);
-  for (std::int32_t c = 0; c < C; ++c) {
-    inside[c] = d.rule[c] == static_cast<int>(Rule::kHidden);
-    outside[c] = d.rule[c] == static_cast<int>(Rule::kSeenFree) || d.rule[c] == static_cast<int>(Rule::kVotedOut);
-  }
-  return conflicting_cells(in.m, inside, outside, ev.hidden_depth, in.o.conflict_px * in.pixel,
-                           std::max(0.0, in.o.interior_depth_px) + in.o.conflict_px);
-}
-
 // seed_core: the hull core, where no view sees free space or beyond Q. Only when Q hides no
 // cell that is merely too deep (a cup's unseen cavity, which the core would fill).
 std::vector<std::uint8_t> seed_core_cells(const Inputs& in, const Decision& d, const ViewEvidence& ev) {
@@ -222,10 +209,6 @@ Result label_cells(const tet::TetMesh& m, const Scene& s, const QPoints& q_in, c
   p.add(Rule::kVotedOut, voted_out_cells(in, candidate, r.votes, r.high_votes, ev, r));
   p.add(Rule::kHidden, hidden_cells(in, candidate, r.votes, r.low_votes, ev, r));
   Decision d = decide(p);
-  if (o.conflict_px > 0) {
-    p.add(Rule::kConflict, conflict_cells(in, d, ev));
-    d = decide(p);
-  }
   if (d.interior == 0 && r.too_deep == 0 && o.seed_core_px > 0 && s.num_silhouettes() > 0) {
     p.add(Rule::kSeedCore, seed_core_cells(in, d, ev));
     d = decide(p);

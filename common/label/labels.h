@@ -15,7 +15,7 @@
 //     Q, the rays that cross a cell count as views seeing through it (lines of sight).
 //  4. Rules (rules.h, with the one precedence table): the paper's voted_out (many votes) and
 //     hidden (few votes, hidden behind Q), the latter only in a shell under Q's visible side;
-//     the extensions hull_core, seen_free, conflict and seed_core.
+//     the extensions hull_core, seen_free and seed_core.
 // docs/architecture.md ("Labels") gives the reasons and the measurements.
 #pragma once
 #include <array>
@@ -67,7 +67,6 @@ struct Options {
   // surface that a silhouette bounds, Q's band lies inside the matter, which then looks free.
   double hull_depth_px = 28;
   double interior_min_share = 0.01;   // hidden: in a group of this share of the largest (0 = no test)
-  double conflict_px = 0;             // conflict: reach in pixels at the object (0 = off)
   QSilhouetteOptions q_sil;           // silhouettes estimated from Q (scenes without any)
   // Throws Error on a bad value: the documented ranges (q_sil's too), low_percentile <
   // high_percentile, seen_free_min_cells >= 0.
@@ -88,7 +87,6 @@ struct Options {
         {"label.seen_free_wall_px", &Options::seen_free_wall_px},
         {"label.hull_depth_px", &Options::hull_depth_px},
         {"label.interior_min_share", &Options::interior_min_share},
-        {"label.conflict_px", &Options::conflict_px},
     });
   }
 };
@@ -136,13 +134,5 @@ std::vector<std::int32_t> group_sizes(const tet::TetMesh& m, const std::vector<s
 // Per cell: 1 when the cell is one of the `in` cells and its face-connected group of `in`
 // cells holds fewer than `share` x the cells of the largest such group.
 std::vector<std::uint8_t> small_groups(const tet::TetMesh& m, const std::vector<std::uint8_t>& in, double share);
-
-// The conflict rule: cells of `inside` (hidden) within `reach` (world units) of a cell of
-// `outside` (seen free or voted out), and cells of `outside` within reach of one of `inside`
-// whose hidden depth (pixels) is known and below `deep`: contradicting evidence that close
-// marks a wall, where neither rule is sure. Both sets are taken before either yields.
-std::vector<std::uint8_t> conflicting_cells(const tet::TetMesh& m, const std::vector<std::uint8_t>& inside,
-                                            const std::vector<std::uint8_t>& outside,
-                                            const std::vector<float>& hidden_depth, double reach, double deep);
 
 }  // namespace tetmvs::label

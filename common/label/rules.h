@@ -7,13 +7,11 @@
 //
 //   boundary > outside_hull > outside_q_hull   geometry: the box and the silhouettes are sure
 //   > hull_core                                 an optional prior that overrules Q
-//   > conflict                                  Q's interior and exterior labels too close: free
 //   > seen_free > voted_out > hidden            Q: free space outranks occlusion
 //   > seed_core                                 the hull core, only when Q gave no interior cell
 //
-// voted_out (many votes) and hidden (few votes) never propose the same cell. conflict
-// proposes only cells that seen_free, voted_out or hidden would label (it is computed from
-// their decision), and seed_core only when no rule above labels any cell interior.
+// voted_out (many votes) and hidden (few votes) never propose the same cell; seed_core
+// proposes cells only when no rule above labels any cell interior.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -29,13 +27,12 @@ enum class Rule : std::uint8_t {
   kOutsideHull,   // exterior: outside a silhouette (paper 2.4)
   kOutsideQHull,  // exterior: outside a silhouette estimated from Q (scenes without any)
   kHullCore,      // interior: deep inside every silhouette (Options::hull_core_px)
-  kConflict,      // free: interior and exterior labels from Q within Options::conflict_px
   kSeenFree,      // exterior: a cavity's air seen over its rim (Options::seen_free_views)
   kVotedOut,      // exterior: many votes and seen as free space (paper 2.4)
   kHidden,        // interior: few votes, hidden just behind Q (paper 2.4, with a depth limit)
   kSeedCore,      // interior: the hull core, when Q gave no interior cell
 };
-inline constexpr int kNumRules = 9;
+inline constexpr int kNumRules = 8;
 
 struct RuleInfo {
   Rule rule;
@@ -50,7 +47,6 @@ inline constexpr std::array<RuleInfo, kNumRules> kRules = {{
     {Rule::kOutsideHull, "outside_hull", kOutsideHull, -1},
     {Rule::kOutsideQHull, "outside_q_hull", kOutsideQHull, -1},
     {Rule::kHullCore, "hull_core", kHullCore, 1},
-    {Rule::kConflict, "conflict", kNone, 0},
     {Rule::kSeenFree, "seen_free", kSeenFree, -1},
     {Rule::kVotedOut, "voted_out", kVotedOut, -1},
     {Rule::kHidden, "hidden", kHidden, 1},

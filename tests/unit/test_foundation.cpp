@@ -298,11 +298,11 @@ TEST(Params, ShippedSettingsFilesLoad) {
     const nlohmann::json j = nlohmann::json::parse(in);
     EXPECT_TRUE(j.contains("_comment")) << e.path();
   }
-  EXPECT_GE(files, 3);  // dinoRing, templeRing, synth-cup
-  Params cup = Params::defaults();
-  cup.merge_file(fs::path(TETMVS_SOURCE_DIR) / "examples/params/synth-cup.json");
-  EXPECT_EQ(cup.s("photo.point_patch"), "grid");
-  EXPECT_EQ(cup.i("label.seen_free_views"), 1);
+  EXPECT_GE(files, 3);  // dinoRing, templeRing, dtuScan37
+  Params dino = Params::defaults();
+  dino.merge_file(fs::path(TETMVS_SOURCE_DIR) / "examples/params/dinoRing.json");
+  EXPECT_EQ(dino.s("photo.point_patch"), "grid");
+  EXPECT_EQ(dino.d("label.hull_core_px"), 1.5);
 }
 
 TEST(Sha256, KnownVectors) {
