@@ -1,16 +1,49 @@
 #include "common/scene.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
+#include <numbers>
 #include <optional>
 #include <sstream>
 
 #include "common/error.h"
 #include "common/h5fields.h"
 #include "common/image.h"
+#include "common/params.h"
 #include "common/silhouette/border.h"
 
 namespace tetmvs {
+
+double camera_spread_deg(const Scene& s) {
+  const Eigen::Vector3d centre = s.box.center();
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> dir;
+  for (const Camera& c : s.cams) {
+    const Eigen::Vector3d d = centre - c.centre();
+    if (d.norm() > 0) dir.push_back(d.normalized()), mean += dir.back();
+  }
+  if (dir.empty() || mean.norm() == 0) return 180;
+  mean.normalize();
+  double spread = 0;
+  for (const auto& d : dir) spread = std::max(spread, std::acos(std::clamp(d.dot(mean), -1.0, 1.0)) * 180 / std::numbers::pi);
+  return spread;
+}
+
+std::string adapt_to_one_sided_capture(const Scene& s, Params& p) {
+  const double cone = p.d("photo.one_sided_deg"), spread = camera_spread_deg(s);
+  if (!(cone > 0 && spread <= cone)) return {};
+  std::ostringstream why;
+  why << "the cameras see the object from one side (all within " << spread << " degrees of their mean direction, "
+      << "photo.one_sided_deg " << cone << "): photo.occlusion on";
+  p.set("photo.occlusion=true");
+  if (s.num_silhouettes() > 0 && p.d("label.hull_core_px") == 0 && p.d("label.seed_core_px") > 0) {
+    p.set("label.hull_core_px=" + std::to_string(p.d("label.seed_core_px")));
+    why << ", label.hull_core_px " << p.d("label.hull_core_px") << " (label.seed_core_px)";
+  }
+  return why.str();
+}
 
 int Scene::num_silhouettes() const {
   int n = 0;

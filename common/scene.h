@@ -30,6 +30,21 @@ struct Scene {
   bool in_silhouette(int v, double u, double vv, bool outside_value) const;
 };
 
+// The largest angle (degrees) between a camera's direction to the box centre and the mean of
+// those directions: about 46 for DTU's cameras, which all look from above, 83 for dinoRing's
+// ring (90 - the elevation for a ring).
+double camera_spread_deg(const Scene& s);
+
+class Params;
+// A capture from one side (docs/real-photos.md): every camera looks at the box centre from
+// within photo.one_sided_deg of the cameras' mean direction (0: never). Under a surface seen
+// from one side, every view scores the matter below it against the surface's texture, and
+// visibility finds no interior there. Such a scene gets occlusion-aware scoring
+// (photo.occlusion) and, when it has silhouettes and no hull core is set, the hull core at
+// label.seed_core_px (label.hull_core_px): `p` is changed so, and the stage's outputs record
+// the values used. Returns a sentence for the log, empty when the capture is not one-sided.
+std::string adapt_to_one_sided_capture(const Scene& s, Params& p);
+
 // Scenes that cannot give a meaningful reconstruction are refused: Error "<where>: <why>"
 // for fewer than two cameras, a box that is not finite, a camera inside the box (the method
 // reconstructs an object seen from outside its box), or fewer than two views that see any

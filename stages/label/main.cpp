@@ -31,8 +31,11 @@ int main(int argc, char** argv) {
   cli.add_output("--out", out, "labels file (HDF5, schemas/labels.md)")->required();
   cli.add_output("--slice-png", slice, "PNG slice through the mesh coloured by label");
   return cli.run(argc, argv, [&](StageContext& ctx) {
-    const label::Options o = label::Options::from_params(ctx.params);
+    label::Options::from_params(ctx.params);  // the options are checked before any work
     const Scene scene = read_scene(scene_file, false);
+    const std::string one_sided = adapt_to_one_sided_capture(scene, ctx.params);
+    if (!one_sided.empty()) info("label: ", one_sided);
+    const label::Options o = label::Options::from_params(ctx.params);
     {
       // the mesh, per-cell results (label, reason, votes, two evidences, view counts, the
       // rules' proposals, the cells' centroids), and
@@ -58,6 +61,6 @@ int main(int argc, char** argv) {
     label::labels_fields().write(f, r);
     f.commit();
     if (!slice.empty()) label::write_label_slice(slice, mesh, scene, r);
-    ctx.summary = label::labels_fields().summary(r);
+    ctx.summary = label::labels_fields().summary(r) + (one_sided.empty() ? "" : "; one-sided capture");
   });
 }

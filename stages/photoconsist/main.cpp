@@ -53,8 +53,11 @@ int main(int argc, char** argv) {
   app.add_flag("--keep-all", keep_all, "level mode: cache every tested face (for inspection and tuning)");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     require(scores || level >= 0, "photoconsist: --level is required in level mode (or give --scores)");
-    const pc::Options opts = pc::Options::from_params(ctx.params);
+    pc::Options::from_params(ctx.params);  // the options are checked before any work
     Scene scene = read_scene(scene_file);
+    const std::string one_sided = adapt_to_one_sided_capture(scene, ctx.params);
+    if (!one_sided.empty()) info("photoconsist: ", one_sided);
+    const pc::Options opts = pc::Options::from_params(ctx.params);
     {
       const MeshCounts mc = mesh_counts(mesh_file);
       const double pixels = static_cast<double>(scene.size()) * scene.cams[0].width * scene.cams[0].height;
@@ -100,7 +103,7 @@ int main(int argc, char** argv) {
       pc::scores_fields().write(f, S);
       if (!points_ply.empty()) write_qpoints_ply(points_ply, S.q.q);  // before make's target
       f.commit();
-      ctx.summary = pc::scores_fields().summary(S);
+      ctx.summary = pc::scores_fields().summary(S) + (one_sided.empty() ? "" : "; one-sided capture");
       return;
     }
 
@@ -115,6 +118,6 @@ int main(int argc, char** argv) {
     pc::level_fields().write(f, L);
     if (!points_ply.empty()) write_qpoints_ply(points_ply, L.all.q);  // before make's target
     f.commit();
-    ctx.summary = pc::level_fields().summary(L);
+    ctx.summary = pc::level_fields().summary(L) + (one_sided.empty() ? "" : "; one-sided capture");
   });
 }

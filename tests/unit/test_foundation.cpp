@@ -298,7 +298,7 @@ TEST(Params, ShippedSettingsFilesLoad) {
     const nlohmann::json j = nlohmann::json::parse(in);
     EXPECT_TRUE(j.contains("_comment")) << e.path();
   }
-  EXPECT_GE(files, 3);  // dinoRing, templeRing, dtuScan37
+  EXPECT_GE(files, 2);  // dinoRing, templeRing
   Params dino = Params::defaults();
   dino.merge_file(fs::path(TETMVS_SOURCE_DIR) / "examples/params/dinoRing.json");
   EXPECT_EQ(dino.s("photo.point_patch"), "grid");

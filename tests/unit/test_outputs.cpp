@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <numbers>
 
 #include "common/budget.h"
 #include "common/error.h"
@@ -16,8 +17,10 @@
 #include "common/h5io.h"
 #include "common/image.h"
 #include "common/outputs.h"
+#include "common/params.h"
 #include "common/ply.h"
 #include "common/scene.h"
+#include "common/synth/scene.h"
 #include "common/validate.h"
 
 namespace fs = std::filesystem;
@@ -288,5 +291,64 @@ TEST(SceneGeometry, NonsenseRefusedSuspiciousWarned) {
     const auto w = check_scene_images(t, "data");
     ASSERT_EQ(w.size(), 1u);
     EXPECT_NE(w[0].find("v0.png"), std::string::npos) << w[0];
+  }
+}
+
+// A capture from one side (photo.one_sided_deg): cameras on a cap above the object, like
+// DTU's, turn on occlusion-aware scoring and, with silhouettes, the hull core at
+// label.seed_core_px; a ring around the object changes nothing; an explicit hull core is
+// kept; 0 degrees turns the rule off.
+TEST(SceneGeometry, OneSidedCaptureAdaptsTheDefaults) {
+  const Eigen::Vector3d centre(0, 0, 0);
+  const auto cap = [&](bool silhouettes) {
+    Scene s;
+    s.box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1));
+    for (int i = 0; i < 12; ++i) {  // polar angles 15-40 degrees from the +z axis
+      const double polar = (15 + 25.0 * (i % 4) / 3) * std::numbers::pi / 180, az = i * 0.9;
+      const Eigen::Vector3d C = 10 * Eigen::Vector3d(std::sin(polar) * std::cos(az), std::sin(polar) * std::sin(az),
+                                                     std::cos(polar));
+      s.cams.push_back(synth::look_at(C, centre, Eigen::Vector3d::UnitY(), 64, 48, 80));
+      s.sil.push_back(silhouettes ? cv::Mat(48, 64, CV_8U, cv::Scalar(255)) : cv::Mat());
+    }
+    return s;
+  };
+  Scene ring;
+  ring.box = cap(true).box;
+  ring.cams = synth::ring_cameras(16, 20, 10, centre, 64, 48, 80);
+  ring.sil.assign(16, cv::Mat(48, 64, CV_8U, cv::Scalar(255)));
+
+  EXPECT_LT(camera_spread_deg(cap(true)), 45);
+  EXPECT_NEAR(camera_spread_deg(ring), 70, 0.5);  // 90 - the ring's elevation
+  {
+    Params p = Params::defaults();
+    EXPECT_TRUE(adapt_to_one_sided_capture(ring, p).empty());
+    EXPECT_FALSE(p.b("photo.occlusion"));
+    EXPECT_EQ(p.d("label.hull_core_px"), 0);
+  }
+  {
+    Params p = Params::defaults();
+    const std::string why = adapt_to_one_sided_capture(cap(true), p);
+    EXPECT_NE(why.find("one side"), std::string::npos) << why;
+    EXPECT_TRUE(p.b("photo.occlusion"));
+    EXPECT_EQ(p.d("label.hull_core_px"), p.d("label.seed_core_px"));
+    EXPECT_GT(p.d("label.hull_core_px"), 0);
+  }
+  {
+    Params p = Params::defaults();  // no silhouettes: no hull core
+    EXPECT_FALSE(adapt_to_one_sided_capture(cap(false), p).empty());
+    EXPECT_TRUE(p.b("photo.occlusion"));
+    EXPECT_EQ(p.d("label.hull_core_px"), 0);
+  }
+  {
+    Params p = Params::defaults();
+    p.set("label.hull_core_px=3");
+    EXPECT_FALSE(adapt_to_one_sided_capture(cap(true), p).empty());
+    EXPECT_EQ(p.d("label.hull_core_px"), 3);
+  }
+  {
+    Params p = Params::defaults();
+    p.set("photo.one_sided_deg=0");
+    EXPECT_TRUE(adapt_to_one_sided_capture(cap(true), p).empty());
+    EXPECT_FALSE(p.b("photo.occlusion"));
   }
 }

@@ -59,6 +59,7 @@ const std::map<std::string, std::vector<std::string>> kReadDirectly = {
     {"mesh.cells", {"stages/bcc-init/main.cpp"}},
     {"refine.target_pixels", {"stages/bcc-init/main.cpp", "stages/refine/main.cpp"}},
     {"resource.memory_gb", {"common/budget.cpp"}},
+    {"photo.one_sided_deg", {"common/scene.cpp"}},
 };
 
 // Parameters bound by two structs, one per stage that uses them.
