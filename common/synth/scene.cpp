@@ -65,12 +65,14 @@ std::vector<Camera> ring_cameras(int n, double elevation_deg, double radius, con
   return cams;
 }
 
-std::vector<Camera> hemisphere_cameras(int n, double radius, const Eigen::Vector3d& target, int w, int h,
-                                       double focal) {
-  require(n >= 1, "hemisphere cameras: need at least one view, got ", n);
-  require(radius > 0, "hemisphere cameras: radius must be > 0, got ", radius);
+namespace {
+// Cameras spread evenly (Fibonacci spiral) over the elevations el0..el1 (degrees) above target.
+std::vector<Camera> spiral_cameras(const char* what, int n, double radius, const Eigen::Vector3d& target, int w, int h,
+                                   double focal, double el0, double el1) {
+  require(n >= 1, what, " cameras: need at least one view, got ", n);
+  require(radius > 0, what, " cameras: radius must be > 0, got ", radius);
   std::vector<Camera> cams;
-  const double s0 = std::sin(10 * std::numbers::pi / 180), s1 = std::sin(75 * std::numbers::pi / 180);
+  const double s0 = std::sin(el0 * std::numbers::pi / 180), s1 = std::sin(el1 * std::numbers::pi / 180);
   const double golden = std::numbers::pi * (3 - std::sqrt(5.0));
   for (int i = 0; i < n; ++i) {
     const double el = std::asin(s0 + (s1 - s0) * (i + 0.5) / n), az = i * golden;
@@ -80,6 +82,16 @@ std::vector<Camera> hemisphere_cameras(int n, double radius, const Eigen::Vector
     cams.back().name = std::to_string(i + 1);
   }
   return cams;
+}
+}  // namespace
+
+std::vector<Camera> hemisphere_cameras(int n, double radius, const Eigen::Vector3d& target, int w, int h,
+                                       double focal) {
+  return spiral_cameras("hemisphere", n, radius, target, w, h, focal, 10, 75);
+}
+
+std::vector<Camera> cap_cameras(int n, double radius, const Eigen::Vector3d& target, int w, int h, double focal) {
+  return spiral_cameras("cap", n, radius, target, w, h, focal, 50, 85);
 }
 
 std::vector<Camera> subset_views(const std::vector<Camera>& cams, int n) {
@@ -332,18 +344,19 @@ nlohmann::json synthesize(const SynthConfig& c, const std::filesystem::path& out
     box = *c.box;
     have_box = true;
   }
-  if (c.cameras == "ring" || c.cameras == "hemisphere") {
+  if (c.cameras == "ring" || c.cameras == "hemisphere" || c.cameras == "cap") {
     if (!have_box) box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-c.box_size / 2), Eigen::Vector3d::Constant(c.box_size / 2));
     const int w = c.width ? c.width : 640, h = c.height ? c.height : 480;
     const int n = c.views ? c.views : 48;
     const double R = 0.5 * box.sizes().norm();
     require(c.camera_radius > 1.5 * R, "synth.camera_radius ", c.camera_radius, " is too close to the box (radius ", R, ")");
     const double f = c.focal > 0 ? c.focal : 0.5 * std::min(w, h) / std::tan(std::asin(R / c.camera_radius));
-    cams = c.cameras == "ring" ? ring_cameras(n, c.ring_elevation, c.camera_radius, box.center(), w, h, f)
-                               : hemisphere_cameras(n, c.camera_radius, box.center(), w, h, f);
+    cams = c.cameras == "ring"         ? ring_cameras(n, c.ring_elevation, c.camera_radius, box.center(), w, h, f)
+           : c.cameras == "hemisphere" ? hemisphere_cameras(n, c.camera_radius, box.center(), w, h, f)
+                                       : cap_cameras(n, c.camera_radius, box.center(), w, h, f);
   } else {
     const fs::path par = c.cameras;
-    require(fs::exists(par), "camera file ", par.string(), " does not exist (give a par file, ring or hemisphere)");
+    require(fs::exists(par), "camera file ", par.string(), " does not exist (give a par file, ring, hemisphere or cap)");
     cams = read_par(par);
     for (Camera& cam : cams) {
       cam.width = 640;

@@ -1,4 +1,4 @@
-// Synthetic scenes: cameras (from a par file, a ring or a hemisphere), the object placed
+// Synthetic scenes: cameras (from a par file, a ring, a hemisphere or a cap), the object placed
 // to fill a box, and rendering into a Middlebury-style dataset folder:
 //   <prefix>_par.txt, <prefix>NNNN.png, silhouettes/<prefix>NNNN.png (255 = object),
 //   bbox.txt (min x y z / max x y z), gt.ply (the exact ground truth mesh, world frame,
@@ -29,6 +29,9 @@ std::vector<Camera> ring_cameras(int n, double elevation_deg, double radius, con
 // Cameras spread evenly (Fibonacci spiral) over the upper hemisphere, elevations 10..75 deg.
 std::vector<Camera> hemisphere_cameras(int n, double radius, const Eigen::Vector3d& target, int w, int h,
                                        double focal);
+// Cameras spread evenly (Fibonacci spiral) over a cap above `target`, elevations 50..85 deg:
+// all within about 40 deg of their mean direction, a capture from one side like DTU's.
+std::vector<Camera> cap_cameras(int n, double radius, const Eigen::Vector3d& target, int w, int h, double focal);
 // Camera looking from C at target with world up `up` (image v points down).
 Camera look_at(const Eigen::Vector3d& C, const Eigen::Vector3d& target, const Eigen::Vector3d& up, int w,
                int h, double focal);
@@ -99,7 +102,7 @@ namespace tetmvs::synth {
 // params(); the rest from its command line).
 struct SynthConfig {
   std::string object;            // objects.h name, or a .ply file
-  std::string cameras;           // a par file, "ring" or "hemisphere"
+  std::string cameras;           // a par file, "ring", "hemisphere" or "cap"
   int views = 0;                 // 0 = all (par) / 48 (generated)
   int width = 0, height = 0;     // 0 = 640 x 480 (par: the images are taken as 640 x 480 unless given)
   double texture = 1, noise = 0.01;

@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   auto& app = cli.app();
   app.add_option("--object", object, names + ", or a closed mesh .ply (placed to fill the box)")->required();
   app.add_option("--cameras", cameras, "a Middlebury par file (e.g. dinoR_par.txt: its README.txt/bbox.txt gives the "
-                                       "box), ring, or hemisphere")->required();
+                                       "box), ring, hemisphere, or cap (a capture from one side)")->required();
   cli.add_output("--out", out, "output dataset folder", PathKind::Folder)->required();
   app.add_option("--texture", texture, "texture strength in [0,1] (synth.texture)");
   app.add_option("--noise", noise, "Gaussian noise sigma in grey levels [0,1] (synth.noise)");

@@ -294,8 +294,8 @@ TEST(SceneGeometry, NonsenseRefusedSuspiciousWarned) {
   }
 }
 
-// A capture from one side (photo.one_sided_deg): cameras on a cap above the object, like
-// DTU's, turn on occlusion-aware scoring and, with silhouettes, the hull core at
+// A capture from one side (photo.one_sided_deg): cameras on a cap above the object (synth's
+// cap, like DTU's), turn on occlusion-aware scoring and, with silhouettes, the hull core at
 // label.seed_core_px; a ring around the object changes nothing; an explicit hull core is
 // kept; 0 degrees turns the rule off.
 TEST(SceneGeometry, OneSidedCaptureAdaptsTheDefaults) {
@@ -303,13 +303,8 @@ TEST(SceneGeometry, OneSidedCaptureAdaptsTheDefaults) {
   const auto cap = [&](bool silhouettes) {
     Scene s;
     s.box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1));
-    for (int i = 0; i < 12; ++i) {  // polar angles 15-40 degrees from the +z axis
-      const double polar = (15 + 25.0 * (i % 4) / 3) * std::numbers::pi / 180, az = i * 0.9;
-      const Eigen::Vector3d C = 10 * Eigen::Vector3d(std::sin(polar) * std::cos(az), std::sin(polar) * std::sin(az),
-                                                     std::cos(polar));
-      s.cams.push_back(synth::look_at(C, centre, Eigen::Vector3d::UnitY(), 64, 48, 80));
-      s.sil.push_back(silhouettes ? cv::Mat(48, 64, CV_8U, cv::Scalar(255)) : cv::Mat());
-    }
+    s.cams = synth::cap_cameras(12, 10, centre, 64, 48, 80);  // `synth --cameras cap`
+    s.sil.assign(12, silhouettes ? cv::Mat(48, 64, CV_8U, cv::Scalar(255)) : cv::Mat());
     return s;
   };
   Scene ring;
