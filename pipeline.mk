@@ -165,8 +165,21 @@ $(DATA_DIR)/%/.present:
 # Synthetic scenes use dinoRing's 48 cameras when the set is at hand, else a generated ring.
 SYNTH_CAMERAS ?= $(firstword $(wildcard $(DATA_DIR)/dinoRing/dinoR_par.txt) ring)
 SYNTH_FLAGS   ?=
+# The scene is rendered again when what it is made from changes (SYNTH_CAMERAS, SYNTH_FLAGS,
+# SYNTH_TEXTURE and the other synth parameters): a stamp beside its folder keeps them, rewritten
+# only when they change (a dry run compares against a copy, as the stages' stamps do).
+ifneq ($(filter synth-%,$(DATA)),)
+ifeq ($(filter help help-all clean,$(MAKECMDGOALS)),)
+SYNTH_STAMP := $(SYNTH_DIR)/.$(DATA).args
+ifneq ($(findstring n,$(filter-out --%,$(firstword -$(MAKEFLAGS)))),)
+SYNTH_STAMP := $(shell cp -p '$(SYNTH_STAMP)' '$(STAMPS)/synth.args' 2>/dev/null; echo '$(STAMPS)/synth.args')
+endif
+_synth_stamp := $(shell mkdir -p '$(SYNTH_DIR)' && printf '%s\n' '--cameras $(SYNTH_CAMERAS) $(SYNTH_FLAGS) $(subst ','"'"',$(call set_args,synth) $(call params_for,synth))' > '$(SYNTH_STAMP).$$$$' && { cmp -s '$(SYNTH_STAMP).$$$$' '$(SYNTH_STAMP)' && rm -f '$(SYNTH_STAMP).$$$$' || mv -f '$(SYNTH_STAMP).$$$$' '$(SYNTH_STAMP)'; })
+$(DATASET)/gt.ply: $(SYNTH_STAMP)
+endif
+endif
 $(SYNTH_DIR)/synth-%/gt.ply: | programs
-	$(BIN)/synth --object $* --cameras $(SYNTH_CAMERAS) --out $(SYNTH_DIR)/synth-$* $(SYNTH_FLAGS) $(if $(QUIET),--quiet)
+	$(BIN)/synth --object $* --cameras $(SYNTH_CAMERAS) --out $(SYNTH_DIR)/synth-$* $(SYNTH_FLAGS) $(call args,synth)
 
 ifneq ($(COLMAP_WS),)
 DATASET_READY :=

@@ -176,6 +176,12 @@ def main():
         expect(not set(ran) & {"ingest", "bcc-init", "synth"}, f"T does not rerun ingest/bcc-init, ran {ran}")
     r = tiny_run.make(BIN, SRC, ["-n", target], extra=["SIL_THRESHOLD=0.2"])
     expect("ingest" in stages_run(r.stdout), "an ingest parameter reruns ingest")
+    if "synth" in have:  # the scene is rendered again from a synth parameter or other SYNTH_FLAGS
+        r = tiny_run.make(BIN, SRC, ["-n", target], extra=["SYNTH_TEXTURE=0.5"])
+        expect("--set synth.texture=0.5" in r.stdout and "ingest" in stages_run(r.stdout),
+               f"SYNTH_TEXTURE renders the scene again and reruns ingest: {stages_run(r.stdout)}")
+        r = tiny_run.make(BIN, SRC, ["-n", target], extra=["SYNTH_FLAGS=--views 16 --size 320x240 --seed 2"])
+        expect("synth" in stages_run(r.stdout), f"other SYNTH_FLAGS render the scene again: {stages_run(r.stdout)}")
     # A PARAMS file: editing one stage's entry changes only that stage's stamp (a comment or
     # another stage's key changes nothing), so only it and what follows rerun.
     with tempfile.TemporaryDirectory() as tmp:
