@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
     Scene scene = read_scene(scene_file);
     const std::string one_sided = adapt_to_one_sided_capture(scene, ctx.params);
     if (!one_sided.empty()) info("photoconsist: ", one_sided);
+    const std::string capture_note = one_sided.empty() ? "" : "; one-sided capture";  // the summaries' tail
     const pc::Options opts = pc::Options::from_params(ctx.params);
     {
       const MeshCounts mc = mesh_counts(mesh_file);
@@ -103,7 +104,7 @@ int main(int argc, char** argv) {
       pc::scores_fields().write(f, S);
       if (!points_ply.empty()) write_qpoints_ply(points_ply, S.q.q);  // before make's target
       f.commit();
-      ctx.summary = pc::scores_fields().summary(S) + (one_sided.empty() ? "" : "; one-sided capture");
+      ctx.summary = pc::scores_fields().summary(S) + capture_note;
       return;
     }
 
@@ -118,6 +119,6 @@ int main(int argc, char** argv) {
     pc::level_fields().write(f, L);
     if (!points_ply.empty()) write_qpoints_ply(points_ply, L.all.q);  // before make's target
     f.commit();
-    ctx.summary = pc::level_fields().summary(L) + (one_sided.empty() ? "" : "; one-sided capture");
+    ctx.summary = pc::level_fields().summary(L) + capture_note;
   });
 }
