@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -16,37 +17,84 @@
 
 namespace tetmvs {
 
+StageOption& StageOption::required() {
+  o_->required();
+  return *this;
+}
+
+StageOption& StageOption::range(int lo, int hi) {
+  o_->check(CLI::Range(lo, hi));
+  return *this;
+}
+
+StageOption& StageOption::range(double lo, double hi) {
+  o_->check(CLI::Range(lo, hi));
+  return *this;
+}
+
+StageOption& StageOption::one_of(const std::vector<std::string>& values) {
+  o_->check(CLI::IsMember(values));
+  return *this;
+}
+
+StageOption& StageOption::needs(const StageOption& other) {
+  o_->needs(other.o_);
+  return *this;
+}
+
 StageCli::StageCli(std::string stage, std::string description)
-    : stage_(std::move(stage)), app_(std::move(description), stage_) {
+    : stage_(std::move(stage)), app_(std::make_unique<CLI::App>(std::move(description), stage_)) {
   add_input("--params", params_file_,
             "JSON file of parameter overrides {\"key\": value} (e.g. a dataset's params.json)");
-  app_.add_option("--set", sets_, "override one parameter: --set key=value (repeatable)");
-  app_.add_option("--threads", threads_, "worker threads (default: all cores); results do not depend on it");
-  app_.add_flag("-q,--quiet", quiet_, "no progress or info messages, only errors and the summary");
-  app_.set_help_flag("-h,--help", "print this help and exit");
-  app_.add_flag("--help-all", help_all_, "print this help with every parameter (the expert tier too) and exit");
+  app_->add_option("--set", sets_, "override one parameter: --set key=value (repeatable)");
+  app_->add_option("--threads", threads_, "worker threads (default: all cores); results do not depend on it");
+  app_->add_flag("-q,--quiet", quiet_, "no progress or info messages, only errors and the summary");
+  app_->set_help_flag("-h,--help", "print this help and exit");
+  app_->add_flag("--help-all", help_all_, "print this help with every parameter (the expert tier too) and exit");
   try {
-    app_.footer(Params::defaults().help_for(stage_));
+    app_->footer(Params::defaults().help_for(stage_));
   } catch (const Error&) {
   }
 }
 
-CLI::Option* StageCli::add_input(const std::string& flags, std::string& var, const std::string& desc, PathKind kind) {
-  CLI::Option* o = app_.add_option(flags, var, desc);
+StageCli::~StageCli() = default;
+
+StageOption StageCli::add_input(const std::string& flags, std::string& var, const std::string& desc, PathKind kind) {
+  CLI::Option* o = app_->add_option(flags, var, desc);
   inputs_.push_back({o, &var, nullptr, kind == PathKind::Folder});
-  return o;
+  return StageOption(o);
 }
 
-CLI::Option* StageCli::add_input(const std::string& flags, std::vector<std::string>& var, const std::string& desc) {
-  CLI::Option* o = app_.add_option(flags, var, desc);
+StageOption StageCli::add_input(const std::string& flags, std::vector<std::string>& var, const std::string& desc) {
+  CLI::Option* o = app_->add_option(flags, var, desc);
   inputs_.push_back({o, nullptr, &var, false});
-  return o;
+  return StageOption(o);
 }
 
-CLI::Option* StageCli::add_output(const std::string& flags, std::string& var, const std::string& desc, PathKind kind) {
-  CLI::Option* o = app_.add_option(flags, var, desc);
+StageOption StageCli::add_output(const std::string& flags, std::string& var, const std::string& desc, PathKind kind) {
+  CLI::Option* o = app_->add_option(flags, var, desc);
   outputs_.push_back({o, &var, nullptr, kind == PathKind::Folder});
-  return o;
+  return StageOption(o);
+}
+
+StageOption StageCli::add_option(const std::string& flags, std::string& var, const std::string& desc) {
+  return StageOption(app_->add_option(flags, var, desc));
+}
+
+StageOption StageCli::add_option(const std::string& flags, std::vector<std::string>& var, const std::string& desc) {
+  return StageOption(app_->add_option(flags, var, desc));
+}
+
+StageOption StageCli::add_option(const std::string& flags, int& var, const std::string& desc) {
+  return StageOption(app_->add_option(flags, var, desc));
+}
+
+StageOption StageCli::add_option(const std::string& flags, double& var, const std::string& desc) {
+  return StageOption(app_->add_option(flags, var, desc));
+}
+
+StageOption StageCli::add_flag(const std::string& flags, bool& var, const std::string& desc) {
+  return StageOption(app_->add_flag(flags, var, desc));
 }
 
 std::vector<PathArg> StageCli::given(const std::vector<Declared>& d) {
@@ -79,16 +127,16 @@ int StageCli::run(int argc, char** argv, const std::function<void(StageContext&)
   for (int a = 1; a < argc; ++a)
     if (std::string(argv[a]) == "--help-all") {
       try {
-        app_.footer(Params::defaults().help_for(stage_, true));
+        app_->footer(Params::defaults().help_for(stage_, true));
       } catch (const Error&) {
       }
-      std::fputs(app_.help().c_str(), stdout);
+      std::fputs(app_->help().c_str(), stdout);
       return 0;
     }
   try {
-    app_.parse(argc, argv);
+    app_->parse(argc, argv);
   } catch (const CLI::Success& e) {  // --help
-    return app_.exit(e);
+    return app_->exit(e);
   } catch (const CLI::ParseError& e) {
     // one line, like every other error
     std::fprintf(stderr, "%s: error: %s (see --help)\n", stage_.c_str(), e.what());

@@ -8,20 +8,28 @@
 //   int main(int argc, char** argv) {
 //     tetmvs::StageCli cli("refine", "Red-green refinement of the active cells.");
 //     std::string in, out;
-//     cli.add_input("--mesh", in, "input mesh (HDF5)")->required();
-//     cli.add_output("--out", out, "output mesh (HDF5)")->required();
+//     cli.add_input("--mesh", in, "input mesh (HDF5)").required();
+//     cli.add_output("--out", out, "output mesh (HDF5)").required();
 //     return cli.run(argc, argv, [&](tetmvs::StageContext& ctx) { ... });
 //   }
+//
+// CLI11 stays inside common/stage.cpp: its header takes about ten seconds to compile, once
+// per program that included it.
 #pragma once
-#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "common/log.h"
 #include "common/outputs.h"
 #include "common/params.h"
+
+namespace CLI {
+class App;
+class Option;
+}  // namespace CLI
 
 namespace tetmvs {
 
@@ -46,16 +54,36 @@ struct StageContext {
 
 enum class PathKind { File, Folder };
 
+// One declared option; its checks apply when the command line is parsed.
+class StageOption {
+ public:
+  explicit StageOption(CLI::Option* o) : o_(o) {}
+  StageOption& required();
+  StageOption& range(int lo, int hi);
+  StageOption& range(double lo, double hi);
+  StageOption& one_of(const std::vector<std::string>& values);
+  StageOption& needs(const StageOption& other);  // given only together with `other`
+
+ private:
+  CLI::Option* o_;
+};
+
 class StageCli {
  public:
   StageCli(std::string stage, std::string description);
-  CLI::App& app() { return app_; }
+  ~StageCli();
   // Options naming what the stage reads and writes (see the top of the file).
-  CLI::Option* add_input(const std::string& flags, std::string& var, const std::string& desc,
+  StageOption add_input(const std::string& flags, std::string& var, const std::string& desc,
+                        PathKind kind = PathKind::File);
+  StageOption add_input(const std::string& flags, std::vector<std::string>& var, const std::string& desc);
+  StageOption add_output(const std::string& flags, std::string& var, const std::string& desc,
                          PathKind kind = PathKind::File);
-  CLI::Option* add_input(const std::string& flags, std::vector<std::string>& var, const std::string& desc);
-  CLI::Option* add_output(const std::string& flags, std::string& var, const std::string& desc,
-                          PathKind kind = PathKind::File);
+  // Any other option or flag. A name without dashes is positional.
+  StageOption add_option(const std::string& flags, std::string& var, const std::string& desc);
+  StageOption add_option(const std::string& flags, std::vector<std::string>& var, const std::string& desc);
+  StageOption add_option(const std::string& flags, int& var, const std::string& desc);
+  StageOption add_option(const std::string& flags, double& var, const std::string& desc);
+  StageOption add_flag(const std::string& flags, bool& var, const std::string& desc);
   // Parses, sets up params/threads, checks the paths, runs body, commits its outputs;
   // returns the process exit code.
   int run(int argc, char** argv, const std::function<void(StageContext&)>& body);
@@ -69,7 +97,7 @@ class StageCli {
   };
   static std::vector<PathArg> given(const std::vector<Declared>& d);
   std::string stage_;
-  CLI::App app_;
+  std::unique_ptr<CLI::App> app_;
   std::string params_file_;
   std::vector<std::string> sets_;
   bool quiet_ = false;

@@ -11,12 +11,11 @@ namespace tetmvs::tet {
 void InspectOptions::add_to(StageCli& cli) {
   cli.add_output("--vtu", vtu, "also write the mesh for ParaView (.vtu; cell data level, colour, new_red)");
   cli.add_output("--slice-png", slice_png, "also write a PNG of the cells cut by a plane, coloured by level");
-  CLI::App& app = cli.app();
-  app.add_option("--slice-axis", slice_axis, "normal of the slice plane: x, y or z")
-      ->check(CLI::IsMember({"x", "y", "z"}));
-  app.add_option("--slice-at", slice_at, "slice position as a fraction of the grid box along the axis")
-      ->check(CLI::Range(0.0, 1.0));
-  app.add_option("--slice-width", slice_width, "slice image width in pixels")->check(CLI::Range(16, 16384));
+  cli.add_option("--slice-axis", slice_axis, "normal of the slice plane: x, y or z")
+      .one_of({"x", "y", "z"});
+  cli.add_option("--slice-at", slice_at, "slice position as a fraction of the grid box along the axis")
+      .range(0.0, 1.0);
+  cli.add_option("--slice-width", slice_width, "slice image width in pixels").range(16, 16384);
 }
 
 void InspectOptions::write(const TetMesh& m) const {

@@ -21,9 +21,9 @@ int main(int argc, char** argv) {
   std::string scene_file, out;
   bool print_levels = false;
   tet::InspectOptions insp;
-  cli.add_input("--scene", scene_file, "scene.h5 (cameras and bounding box)")->required();
+  cli.add_input("--scene", scene_file, "scene.h5 (cameras and bounding box)").required();
   cli.add_output("-o,--out", out, "output mesh file (mesh_0.h5)");
-  cli.app().add_flag("--print-levels", print_levels,
+  cli.add_flag("--print-levels", print_levels,
                      "print (stdout) how many refinement levels reach refine.target_pixels, then exit");
   insp.add_to(cli);
   return cli.run(argc, argv, [&](StageContext& ctx) {

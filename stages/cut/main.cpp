@@ -31,13 +31,13 @@ int main(int argc, char** argv) {
                "source (interior) and sink (exterior) by the labels; writes the cells' sides and "
                "the cut surface as an outward, edge-manifold PLY mesh.");
   std::string mesh_file, scores_file, labels_file, out, ply, scene_file, png;
-  cli.add_input("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)")->required();
-  cli.add_input("--scores", scores_file, "face scores from photoconsist --scores (scores.h5)")->required();
-  cli.add_input("--labels", labels_file, "hard labels (labels.h5 or silfix.h5)")->required();
-  cli.add_output("--out", out, "cut file (HDF5, schemas/cut.md)")->required();
-  cli.add_output("--ply", ply, "cut surface (binary PLY)")->required();
-  auto* scene_opt = cli.add_input("--scene", scene_file, "scene.h5: with --png, render the surface from four views");
-  cli.add_output("--png", png, "PNG of the surface rendered from four views (needs --scene)")->needs(scene_opt);
+  cli.add_input("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)").required();
+  cli.add_input("--scores", scores_file, "face scores from photoconsist --scores (scores.h5)").required();
+  cli.add_input("--labels", labels_file, "hard labels (labels.h5 or silfix.h5)").required();
+  cli.add_output("--out", out, "cut file (HDF5, schemas/cut.md)").required();
+  cli.add_output("--ply", ply, "cut surface (binary PLY)").required();
+  const StageOption scene_opt = cli.add_input("--scene", scene_file, "scene.h5: with --png, render the surface from four views");
+  cli.add_output("--png", png, "PNG of the surface rendered from four views (needs --scene)").needs(scene_opt);
   return cli.run(argc, argv, [&](StageContext& ctx) {
     const Scene scene = png.empty() ? Scene() : read_scene(scene_file, false);  // (checked before the work)
     {

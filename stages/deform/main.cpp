@@ -23,10 +23,10 @@ int main(int argc, char** argv) {
                "(multi-view NCC, coarse to fine) forces, red-green remeshing, no self-intersections. Writes a binary PLY with normals and colours "
                "and per-iteration statistics (HDF5, schemas/deform.md).");
   std::string scene_file, mesh_file, out, stats, png;
-  cli.add_input("--scene", scene_file, "scene.h5 (cameras, images, silhouettes)")->required();
-  cli.add_input("--mesh", mesh_file, "start surface: closed, edge-manifold, outward (cut2.ply)")->required();
-  cli.add_output("--out", out, "final mesh (binary PLY with normals and colours)")->required();
-  cli.add_output("--stats", stats, "statistics per iteration (HDF5, schema tetmvs.deform)")->required();
+  cli.add_input("--scene", scene_file, "scene.h5 (cameras, images, silhouettes)").required();
+  cli.add_input("--mesh", mesh_file, "start surface: closed, edge-manifold, outward (cut2.ply)").required();
+  cli.add_output("--out", out, "final mesh (binary PLY with normals and colours)").required();
+  cli.add_output("--stats", stats, "statistics per iteration (HDF5, schema tetmvs.deform)").required();
   cli.add_output("--png", png, "PNG of the final mesh rendered from four views");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     const deform::Options opt = deform::Options::from_params(ctx.params);

@@ -14,18 +14,17 @@ int main(int argc, char** argv) {
                "checks. Writes JSON (schemas/evaluate.md) and optionally a PNG of the reconstruction coloured by "
                "its error. Without --gt: the mesh checks and the surface roughness only.");
   eval::Request q;
-  auto& app = cli.app();
-  cli.add_input("--mesh", q.mesh, "reconstruction (PLY mesh or point cloud)")->required();
+  cli.add_input("--mesh", q.mesh, "reconstruction (PLY mesh or point cloud)").required();
   cli.add_input("--gt", q.gt,
                 "ground-truth mesh (PLY; optional per-face/vertex 'region'); without it, only the mesh checks and "
                 "the roughness");
-  cli.add_input("--cameras", q.cameras, "cameras: a par file or scene.h5 (visibility of the ground truth)")->required();
-  cli.add_output("--out", q.out, "output JSON")->required();
+  cli.add_input("--cameras", q.cameras, "cameras: a par file or scene.h5 (visibility of the ground truth)").required();
+  cli.add_output("--out", q.out, "output JSON").required();
   cli.add_output("--png", q.png, "error picture (PNG)");
-  app.add_option("--size", q.size, "image size WxH when the par file's images are not beside it");
-  app.add_option("--thresholds", q.thresholds,
+  cli.add_option("--size", q.size, "image size WxH when the par file's images are not beside it");
+  cli.add_option("--thresholds", q.thresholds,
                  "extra completeness thresholds, comma separated (world units), after eval.threshold");
-  app.add_option("--region-box", q.box, "also report the region inside 'minx miny minz maxx maxy maxz'");
+  cli.add_option("--region-box", q.box, "also report the region inside 'minx miny minz maxx maxy maxz'");
   cli.add_input("--labels", q.labels,
                  "also count the hard labels (labels.h5 or silfix.h5) that the ground truth contradicts: interior "
                  "cells outside it, exterior cells inside it (needs --tetmesh)");

@@ -22,8 +22,8 @@ int main(int argc, char** argv) {
                "(images/ + sparse/ or sparse/0/, text or binary model) or model folder is recognised "
                "and read instead (docs/colmap.md).");
   std::string dir, out, sheet;
-  cli.add_input("dataset", dir, "dataset folder", PathKind::Folder)->required();
-  cli.add_output("-o,--out", out, "output scene file (HDF5)")->required();
+  cli.add_input("dataset", dir, "dataset folder", PathKind::Folder).required();
+  cli.add_output("-o,--out", out, "output scene file (HDF5)").required();
   cli.add_output("--contact-sheet", sheet, "also write a PNG of every view with its silhouette outlined");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     info("ingest: reading ", dir);

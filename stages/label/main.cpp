@@ -25,10 +25,10 @@ int main(int argc, char** argv) {
                "hull, many votes and seen as free space), interior (few votes, hidden behind Q in every "
                "view and close behind its visible side), or free for the cut to decide.");
   std::string scene_file, mesh_file, scores_file, out, slice;
-  cli.add_input("--scene", scene_file, "scene.h5")->required();
-  cli.add_input("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)")->required();
-  cli.add_input("--scores", scores_file, "scores.h5 of photoconsist (holds the points Q)")->required();
-  cli.add_output("--out", out, "labels file (HDF5, schemas/labels.md)")->required();
+  cli.add_input("--scene", scene_file, "scene.h5").required();
+  cli.add_input("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)").required();
+  cli.add_input("--scores", scores_file, "scores.h5 of photoconsist (holds the points Q)").required();
+  cli.add_output("--out", out, "labels file (HDF5, schemas/labels.md)").required();
   cli.add_output("--slice-png", slice, "PNG slice through the mesh coloured by label");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     label::Options::from_params(ctx.params);  // the options are checked before any work

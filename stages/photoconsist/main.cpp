@@ -40,17 +40,16 @@ int main(int argc, char** argv) {
   std::string scene_file, mesh_file, cache_file, out, points_ply, gt_file;
   int level = -1;
   bool scores = false, keep_all = false;
-  auto& app = cli.app();
-  cli.add_input("--scene", scene_file, "scene.h5 (cameras, images, silhouettes)")->required();
-  cli.add_input("--mesh", mesh_file, "mesh_i.h5 (level mode) or the final mesh (scores mode)")->required();
-  app.add_option("--level", level, "level i of the mesh (level mode; must match the mesh)");
+  cli.add_input("--scene", scene_file, "scene.h5 (cameras, images, silhouettes)").required();
+  cli.add_input("--mesh", mesh_file, "mesh_i.h5 (level mode) or the final mesh (scores mode)").required();
+  cli.add_option("--level", level, "level i of the mesh (level mode; must match the mesh)");
   cli.add_input("--cache", cache_file, "pc_{i-1}.h5: face cache and Q of the previous levels");
-  cli.add_output("-o,--out", out, "pc_i.h5 (level mode) or scores.h5 (scores mode)")->required();
-  app.add_flag("--scores", scores, "scores mode: face scores omega of the final mesh");
+  cli.add_output("-o,--out", out, "pc_i.h5 (level mode) or scores.h5 (scores mode)").required();
+  cli.add_flag("--scores", scores, "scores mode: face scores omega of the final mesh");
   cli.add_output("--points-ply", points_ply, "also write Q (all points so far) as a PLY point cloud");
   cli.add_input("--gt", gt_file, "ground-truth mesh (synth's gt.ply): measure recall/precision of the "
                                   "crossing faces and the accuracy of Q, stored under /eval");
-  app.add_flag("--keep-all", keep_all, "level mode: cache every tested face (for inspection and tuning)");
+  cli.add_flag("--keep-all", keep_all, "level mode: cache every tested face (for inspection and tuning)");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     require(scores || level >= 0, "photoconsist: --level is required in level mode (or give --scores)");
     pc::Options::from_params(ctx.params);  // the options are checked before any work

@@ -29,14 +29,14 @@ int main(int argc, char** argv) {
   std::string mesh_file, active_file, out, scene_file, dataset = "/cells/active";
   bool print_levels = false, check = false;
   tet::InspectOptions insp;
-  cli.add_input("--mesh", mesh_file, "input mesh (mesh_i.h5)")->required();
+  cli.add_input("--mesh", mesh_file, "input mesh (mesh_i.h5)").required();
   cli.add_input("--active", active_file, "HDF5 file with the active-cell flags");
-  cli.app().add_option("--active-dataset", dataset, "dataset of the flags in --active");
+  cli.add_option("--active-dataset", dataset, "dataset of the flags in --active");
   cli.add_output("-o,--out", out, "output mesh (mesh_{i+1}.h5)");
   cli.add_input("--scene", scene_file, "scene.h5: report the projected size of the finest cells");
-  cli.app().add_flag("--print-levels", print_levels,
+  cli.add_flag("--print-levels", print_levels,
                      "print (stdout) the total number of levels reaching refine.target_pixels (needs --scene)");
-  cli.app().add_flag("--check", check, "run the full (slow) geometric conformity check on the result");
+  cli.add_flag("--check", check, "run the full (slow) geometric conformity check on the result");
   insp.add_to(cli);
   return cli.run(argc, argv, [&](StageContext& ctx) {
     if (print_levels) require(!scene_file.empty(), "refine: --print-levels needs --scene");

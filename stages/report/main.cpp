@@ -15,9 +15,9 @@ int main(int argc, char** argv) {
                "silhouettes and ground truth, the surfaces from several views, input silhouettes, "
                "the mesh per level, Q, labels, silhouette fix, time and memory per stage, parameters.");
   std::string run, out, title;
-  cli.add_input("run_dir", run, "run directory (RUN_DIR of pipeline.mk)", PathKind::Folder)->required();
+  cli.add_input("run_dir", run, "run directory (RUN_DIR of pipeline.mk)", PathKind::Folder).required();
   cli.add_output("-o,--out", out, "output HTML (default RUN_DIR/report/index.html)");
-  cli.app().add_option("--title", title, "page title");
+  cli.add_option("--title", title, "page title");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     require(fs::is_directory(run), run, ": is not a run directory (no such folder)");
     const fs::path target = out.empty() ? fs::path(run) / "report" / "index.html" : fs::path(out);

@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
                "the updated labels for the second cut, the constraints, and pictures.");
   std::string scene_file, mesh_file, scores_file, labels_file, cut_file, surface_file, out, png_dir, agree_json;
   std::vector<std::string> agreement;
-  cli.add_input("--scene", scene_file, "scene.h5 (cameras and silhouettes)")->required();
+  cli.add_input("--scene", scene_file, "scene.h5 (cameras and silhouettes)").required();
   cli.add_input("--mesh", mesh_file, "final tetrahedral mesh (mesh_<L>.h5)");
   cli.add_input("--scores", scores_file, "face scores (scores.h5, /faces/omega)");
   cli.add_input("--labels", labels_file, "hard labels of the first cut (labels.h5)");
@@ -40,10 +40,10 @@ int main(int argc, char** argv) {
   cli.add_input("--surface", surface_file, "S1 as a PLY (cut1.ply) instead of rebuilding it from --cut");
   cli.add_output("--out", out, "updated labels plus constraints (silfix.h5, schemas/silfix.md)");
   cli.add_output("--png-dir", png_dir, "folder for pictures: view_<NNN>.png per view and sheet.png", PathKind::Folder);
-  auto* agree_opt = cli.add_input(
+  const StageOption agree_opt = cli.add_input(
       "--agreement", agreement,
       "only report the silhouette agreement of this surface (PLY; repeatable), e.g. cut1.ply cut2.ply");
-  cli.add_output("--agreement-json", agree_json, "with --agreement: also write the numbers as JSON")->needs(agree_opt);
+  cli.add_output("--agreement-json", agree_json, "with --agreement: also write the numbers as JSON").needs(agree_opt);
   return cli.run(argc, argv, [&](StageContext& ctx) {
     if (agreement.empty()) {
       require(!mesh_file.empty() && !scores_file.empty() && !labels_file.empty() && !out.empty(),

@@ -26,27 +26,26 @@ int main(int argc, char** argv) {
   int seed = -1, views = 0;
   std::string names;
   for (const auto& n : synth::object_names()) names += (names.empty() ? "" : "|") + n;
-  auto& app = cli.app();
-  app.add_option("--object", object, names + ", or a closed mesh .ply (placed to fill the box)")->required();
-  app.add_option("--cameras", cameras, "a Middlebury par file (e.g. dinoR_par.txt: its README.txt/bbox.txt gives the "
-                                       "box), ring, hemisphere, or cap (a capture from one side)")->required();
-  cli.add_output("--out", out, "output dataset folder", PathKind::Folder)->required();
-  app.add_option("--texture", texture, "texture strength in [0,1] (synth.texture)");
-  app.add_option("--noise", noise, "Gaussian noise sigma in grey levels [0,1] (synth.noise)");
-  app.add_option("--seed", seed, "random seed (synth.seed)");
-  app.add_option("--views", views, "number of views (par file: an evenly spaced subset; generated: default 48)");
-  app.add_option("--size", size, "image size WxH (generated cameras: default 640x480; par cameras are rescaled)");
-  app.add_option("--box", box, "scene box 'minx miny minz maxx maxy maxz' (overrides the dataset's box)");
+  cli.add_option("--object", object, names + ", or a closed mesh .ply (placed to fill the box)").required();
+  cli.add_option("--cameras", cameras, "a Middlebury par file (e.g. dinoR_par.txt: its README.txt/bbox.txt gives the "
+                                       "box), ring, hemisphere, or cap (a capture from one side)").required();
+  cli.add_output("--out", out, "output dataset folder", PathKind::Folder).required();
+  cli.add_option("--texture", texture, "texture strength in [0,1] (synth.texture)");
+  cli.add_option("--noise", noise, "Gaussian noise sigma in grey levels [0,1] (synth.noise)");
+  cli.add_option("--seed", seed, "random seed (synth.seed)");
+  cli.add_option("--views", views, "number of views (par file: an evenly spaced subset; generated: default 48)");
+  cli.add_option("--size", size, "image size WxH (generated cameras: default 640x480; par cameras are rescaled)");
+  cli.add_option("--box", box, "scene box 'minx miny minz maxx maxy maxz' (overrides the dataset's box)");
   std::string colmap_dir;
   synth::ColmapExportOptions cx;
   bool colmap_no_sil = false;
   cli.add_output("--colmap", colmap_dir, "also export the scene as a COLMAP workspace here: images/, sparse/ (cameras, "
                                          "images, points3D = ground-truth surface points and their projections), "
                                          "silhouettes/, gt.ply (docs/colmap.md)", PathKind::Folder);
-  app.add_option("--colmap-points", cx.points, "surface points drawn for points3D (those seen by fewer than 2 views are dropped)")
-      ->check(CLI::Range(1, 10000000));
-  app.add_flag("--colmap-binary", cx.binary, "write the binary model (.bin) instead of the text one");
-  app.add_flag("--colmap-no-silhouettes", colmap_no_sil, "leave silhouettes/ out of the COLMAP workspace");
+  cli.add_option("--colmap-points", cx.points, "surface points drawn for points3D (those seen by fewer than 2 views are dropped)")
+      .range(1, 10000000);
+  cli.add_flag("--colmap-binary", cx.binary, "write the binary model (.bin) instead of the text one");
+  cli.add_flag("--colmap-no-silhouettes", colmap_no_sil, "leave silhouettes/ out of the COLMAP workspace");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     // an object or cameras given as a file is an input
     if (std::filesystem::is_regular_file(object)) ctx.add_input(object, "--object");

@@ -14,8 +14,8 @@ int main(int argc, char** argv) {
                "size, JSON that parses); prints one line per damaged file on stdout. Exit status 0 either way.");
   std::vector<std::string> files;
   bool names = false;
-  cli.app().add_option("files", files, "files to check");
-  cli.app().add_flag("--names", names, "print only the names of the damaged files");
+  cli.add_option("files", files, "files to check");
+  cli.add_flag("--names", names, "print only the names of the damaged files");
   return cli.run(argc, argv, [&](StageContext& ctx) {
     int damaged = 0;
     for (const auto& f : files)
