@@ -342,6 +342,8 @@ def summarize(args, run_dir, wall, quality=True):
             d = json.load(open(p))
             q = {"accuracy_mm": round(d["accuracy"]["value"] * 1000, 4),
                  "completeness": round(d["completeness"]["value"], 5)}
+            if d["accuracy"].get("value_seen") is not None:  # over the seen part (Middlebury's)
+                q["accuracy_seen_mm"] = round(d["accuracy"]["value_seen"] * 1000, 4)
             if d.get("labels"):
                 q["wrong_labels"] = {side: d["labels"][side]["wrong"] for side in ("interior", "exterior")}
             result.setdefault("quality", {})[ev] = q

@@ -77,15 +77,16 @@ label::LabelTruth label_truth(const Request& q, const TriMesh& g) {
   return label::check_labels(m, lab, reason, MeshBVH(g));
 }
 
-// Surface samples (area / spacing^2 each): position, normal, face, distances, and for the
-// ground truth's one visibility byte per camera; plus one depth and one triangle raster
+// Surface samples (area / spacing^2 each): position, normal, face, distances, and for both
+// (the ground truth's, and the reconstruction's closest ground-truth points) one visibility
+// byte per camera; plus one depth and one triangle raster
 // (8 bytes a pixel) per thread.
 void check_budget(const TriMesh& rec, const TriMesh& g, const std::vector<Camera>& cams, const EvalOptions& o,
                   double px, const Params& p, const std::string& cameras) {
   const double s2 = o.spacing * o.spacing;
   const double ng = total_area(g) / s2, nr = rec.nf() > 0 ? total_area(rec) / s2 : rec.nv();
   const double raster = 8.0 * cams[0].width * static_cast<double>(cams[0].height);
-  const double bytes = ng * (kEvalBytesPerSample + static_cast<double>(cams.size())) + nr * kEvalBytesPerSample +
+  const double bytes = (ng + nr) * (kEvalBytesPerSample + static_cast<double>(cams.size())) +
                        omp_get_max_threads() * raster;
   std::ostringstream what;
   what << "evaluate: about " << ng + nr << " surface samples at eval.sample_spacing_px " << o.spacing / px << " ("
@@ -100,6 +101,8 @@ std::string summary_line(const EvalResult& r, const EvalOptions& o, const Roughn
   s.precision(4);
   s << "accuracy" << static_cast<int>(100 * o.accuracy_fraction) << "=";
   if (r.all.accuracy.samples > 0) s << r.all.accuracy.at_fraction; else s << "none";
+  if (r.all.accuracy_seen.samples > 0 && r.all.accuracy_seen.samples < r.all.accuracy.samples)
+    s << " (seen part " << r.all.accuracy_seen.at_fraction << ")";
   s << " completeness=" << 100 * r.all.completeness.within[0] << "%";
   for (const auto& rr : r.regions)
     if (rr.completeness.visible_samples > 0) {

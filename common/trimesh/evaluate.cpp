@@ -131,9 +131,8 @@ EvalResult evaluate(const TriMesh& rec, const TriMesh& gt, const std::vector<Cam
   for (int r : greg) max_reg = std::max(max_reg, r);
 
   // --- completeness: ground-truth samples -> reconstruction ---
-  const SurfaceSamples gs = sample_surface(gt, opt.spacing, opt.seed);
+  SurfaceSamples gs = sample_surface(gt, opt.spacing, opt.seed);
   require(gs.size() > 0, "evaluate: no ground-truth samples (spacing ", opt.spacing, " too large?)");
-  const std::vector<int> nvis = count_visible_views(gt, gs, cams, opt.visibility_tolerance_px);
   const MeshBVH rbvh(rec);
   const double tmax = *std::max_element(opt.thresholds.begin(), opt.thresholds.end());
   const std::int64_t ng = static_cast<std::int64_t>(gs.size());
@@ -159,13 +158,27 @@ EvalResult evaluate(const TriMesh& rec, const TriMesh& gt, const std::vector<Cam
   std::vector<double> rd(nr);
   std::vector<int> rreg(nr);
   std::vector<Eigen::Vector3d> rclosest(nr);
+  std::vector<int> rface(nr);
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int64_t i = 0; i < nr; ++i) {
     const ClosestHit h = gbvh.closest(rs.P[i]);
     rd[i] = h.dist();
     rreg[i] = greg[h.prim];
     rclosest[i] = h.point;
+    rface[i] = h.prim;
   }
+
+  // --- visibility of the ground-truth samples and of the reconstruction samples' closest
+  // ground-truth points (appended to gs: one rasterisation per camera for both) ---
+  gs.P.insert(gs.P.end(), rclosest.begin(), rclosest.end());
+  gs.face.insert(gs.face.end(), rface.begin(), rface.end());
+  for (const int f : rface) {
+    const Eigen::Vector3i& t = gt.F[f];
+    gs.N.push_back((gt.V[t[1]] - gt.V[t[0]]).cross(gt.V[t[2]] - gt.V[t[0]]).normalized());
+  }
+  std::vector<int> nvis = count_visible_views(gt, gs, cams, opt.visibility_tolerance_px);
+  const std::vector<int> rvis(nvis.begin() + ng, nvis.end());
+  nvis.resize(ng);
 
   // --- statistics per region ---
   auto fill = [&](RegionResult& rr, auto&& gt_in, auto&& rec_in) {
@@ -185,10 +198,14 @@ EvalResult evaluate(const TriMesh& rec, const TriMesh& gt, const std::vector<Cam
           rr.completeness.visible_samples > 0 ? static_cast<double>(hit[k]) / rr.completeness.visible_samples : 0.0;
     rr.completeness.within_all =
         rr.completeness.gt_samples > 0 ? static_cast<double>(hit_all) / rr.completeness.gt_samples : 0.0;
-    std::vector<double> d;
+    std::vector<double> d, d_seen;
     for (std::int64_t i = 0; i < nr; ++i)
-      if (rec_in(i)) d.push_back(rd[i]);
+      if (rec_in(i)) {
+        d.push_back(rd[i]);
+        if (rvis[i] >= opt.min_views) d_seen.push_back(rd[i]);
+      }
     rr.accuracy = accuracy_stats(std::move(d), opt.accuracy_fraction);
+    rr.accuracy_seen = accuracy_stats(std::move(d_seen), opt.accuracy_fraction);
   };
   res.all.name = "all";
   fill(res.all, [](std::int64_t) { return true; }, [](std::int64_t) { return true; });
@@ -245,6 +262,8 @@ nlohmann::json region_json(const RegionResult& r, const EvalOptions& o) {
   a["p95"] = val(r.accuracy.p95);
   a["mean"] = val(r.accuracy.mean);
   a["max"] = val(r.accuracy.max);
+  a["samples_seen"] = r.accuracy_seen.samples;
+  a["value_seen"] = r.accuracy_seen.samples > 0 ? nlohmann::json(r.accuracy_seen.at_fraction) : nlohmann::json(nullptr);
   j["accuracy"] = a;
   return j;
 }

@@ -2,7 +2,10 @@
 // (Seitz et al. CVPR 2006):
 //   accuracy      distance d such that `accuracy_fraction` (90 %) of the reconstruction
 //                 (area-weighted surface samples, or the points of a point cloud) lies
-//                 within d of the ground truth; also 50 %, 95 %, mean, max;
+//                 within d of the ground truth; also 50 %, 95 %, mean, max. Also over the
+//                 seen part only: the samples whose closest ground-truth point at least
+//                 `min_views` cameras see (Middlebury leaves out the points nearest to the
+//                 ground truth's unobserved, hole-filled parts: a cup's bottom);
 //   completeness  share of ground-truth surface samples within `threshold` (1.25 mm) of
 //                 the reconstruction, counting only samples visible (front-facing,
 //                 unoccluded, inside the image) in at least `min_views` cameras.
@@ -58,6 +61,7 @@ struct RegionResult {
   int id = -1;       // region label (-1 for "all" and "box")
   CompletenessStats completeness;
   AccuracyStats accuracy;  // reconstruction samples whose closest ground-truth point is in the region
+  AccuracyStats accuracy_seen;  // those of them whose closest ground-truth point is seen
 };
 
 struct EvalResult {

@@ -150,6 +150,11 @@ def main():
             expect(li["wrong"] <= 2 and li["wrong_deeper_than_4"] == 0,
                    f"{lab}: at most 2 interior cells outside the true object, none deeper than 4 cells")
         expect(le["wrong"] == 0, f"{lab}: no exterior label inside the true object")
+    # without a ground truth (a real set) evaluate gives the mesh checks and the roughness
+    r = tiny_run.make(BIN, SRC, ["-n", "evaluate"], extra=["GT=", "-B"])
+    ev = [l for l in r.stdout.splitlines() if "/evaluate " in l]
+    expect(ev and all("--gt" not in l and "--png" not in l and "--cameras" in l for l in ev),
+           f"evaluate without a ground truth: {ev}")
     # 3. change tracking: nothing changed -> nothing reruns
     r = tiny_run.make(BIN, SRC, ["-n", target])
     expect(stages_run(r.stdout) == [], f"a second make reruns {stages_run(r.stdout)}")

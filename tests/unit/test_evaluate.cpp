@@ -77,6 +77,36 @@ TEST(Evaluate, MovedOneMillimetreAlongNormals) {
   EXPECT_NEAR(evaluate(in, gt, s.cams, opts()).all.accuracy.at_fraction, 1e-3, 0.03e-3);
 }
 
+// Middlebury leaves out the reconstruction's points nearest to the ground truth's unobserved
+// parts: a bottom no camera sees, bulged by 3 mm, counts in `accuracy` and not in
+// `accuracy_seen`.
+TEST(Evaluate, AnUnseenBottomCountsOnlyInTheAccuracyOverAll) {
+  const EvalScene s;
+  const TriMesh gt = s.object("sphere");
+  const auto [lo, hi] = bounds(gt);
+  const Eigen::Vector3d c = 0.5 * (lo + hi);
+  const double radius = 0.5 * (hi.x() - lo.x());
+  TriMesh bulged = gt;
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < bulged.V.size(); ++i)
+    if ((bulged.V[i] - c).dot(s.up) < -std::sin(75 * M_PI / 180) * radius) {  // below 75 degrees south
+      bulged.V[i] += 3e-3 * bulged.N[i].cast<double>();
+      ++moved;
+    }
+  ASSERT_GT(moved, 10u);
+  const EvalResult r = evaluate(bulged, gt, s.cams, opts());
+  EXPECT_GT(r.all.accuracy.max, 2.5e-3);
+  EXPECT_LT(r.all.accuracy_seen.max, 1e-4);
+  EXPECT_LT(r.all.accuracy_seen.samples, r.all.accuracy.samples);
+  EXPECT_GT(r.all.accuracy_seen.samples, r.all.accuracy.samples * 9 / 10);
+  const nlohmann::json j = to_json(r);
+  EXPECT_EQ(j["accuracy"]["samples_seen"], r.all.accuracy_seen.samples);
+  EXPECT_LT(j["accuracy"]["value_seen"].get<double>(), 1e-4);
+  // Seen everywhere, the two agree.
+  const EvalResult same = evaluate(gt, gt, s.cams, opts());
+  EXPECT_LT(same.all.accuracy_seen.max, 1e-12);
+}
+
 TEST(Evaluate, HalfTheSurfaceRemoved) {
   const EvalScene s;
   const TriMesh gt = s.object("sphere");
