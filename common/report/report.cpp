@@ -241,11 +241,17 @@ std::string build_report(const Options& o) {
           if (!genus.empty()) comps += " (genus " + genus + ")";
           closed = c.value("closed", json(false)).dump();
         }
+        const auto accuracy_text = [&](double a) {
+          return e.contains("pixel_size") && e["pixel_size"].is_number() && e["pixel_size"].get<double>() > 0
+                     ? fmt(a / e["pixel_size"].get<double>(), 3) + " px; " + fmt(a, 3)
+                     : fmt(a, 3);
+        };
         if (e.contains("accuracy") && e["accuracy"]["value"].is_number()) {
-          const double a = e["accuracy"]["value"].get<double>();
-          acc = e.contains("pixel_size") && e["pixel_size"].is_number() && e["pixel_size"].get<double>() > 0
-                    ? fmt(a / e["pixel_size"].get<double>(), 3) + " px; " + fmt(a, 3)
-                    : fmt(a, 3);
+          const json& a = e["accuracy"];
+          acc = accuracy_text(a["value"].get<double>());
+          if (a.contains("value_seen") && a["value_seen"].is_number() &&
+              a.value("samples_seen", json(0)) != a.value("samples", json(0)))  // some of the truth unseen
+            acc += " (seen part: " + accuracy_text(a["value_seen"].get<double>()) + ")";
         }
         if (e.contains("completeness") && e["completeness"]["value"].is_number())
           comp = fmt(e["completeness"]["value"].get<double>() * 100, 4) + " %";
