@@ -152,7 +152,21 @@ TriMesh make_horn(double h) {
   return p.revolve(h);
 }
 
-std::vector<std::string> object_names() { return {"sphere", "torus", "cup", "cup_filled", "two", "horn"}; }
+TriMesh make_relief(double h) {
+  TriMesh m = make_sphere(h / 1.25);  // the relief's slopes (up to about 1) stretch the edges
+  const auto egg_crate = [](const Eigen::Vector3d& u, double wavelength) {
+    const double k = 2 * std::numbers::pi / wavelength;
+    return std::sin(k * u.x()) * std::sin(k * u.y()) * std::sin(k * u.z());
+  };
+  for (Eigen::Vector3d& v : m.V) {
+    const Eigen::Vector3d u = v.normalized();
+    v = u * (1.0 + 0.025 * egg_crate(u, 0.25) + 0.008 * egg_crate(u, 0.1));
+  }
+  compute_vertex_normals(m);
+  return m;
+}
+
+std::vector<std::string> object_names() { return {"sphere", "torus", "cup", "cup_filled", "two", "horn", "relief"}; }
 
 TriMesh make_object(const std::string& name, double h) {
   if (name == "sphere") return make_sphere(h);
@@ -161,6 +175,7 @@ TriMesh make_object(const std::string& name, double h) {
   if (name == "cup_filled") return make_cup(h, true);
   if (name == "two") return make_two(h);
   if (name == "horn") return make_horn(h);
+  if (name == "relief") return make_relief(h);
   std::string all;
   for (const auto& n : object_names()) all += " " + n;
   fail("unknown object '", name, "' (known:", all, ")");

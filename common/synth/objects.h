@@ -36,8 +36,13 @@ TriMesh make_torus(double h);                       // R = 1, r = 0.4, axis tilt
 TriMesh make_cup(double h, bool filled = false);    // radius 1, height 2, open at +z; filled = its convex lid closed
 TriMesh make_two(double h);                         // two disjoint spheres (r 0.75 and 0.55) side by side along x
 TriMesh make_horn(double h);                        // sphere r 1 with a thin horn along +z up to z = 2.1
+// Sphere r 1 with a relief of two scales, moved along the radius: bumps of wavelength 0.25 and
+// height +-0.025, and on them ripples of wavelength 0.1 and height +-0.008 (on dinoRing's
+// cameras about 38 px and 4 px, then 15 px and 1.2 px): geometric detail for the final mesh to
+// keep.
+TriMesh make_relief(double h);
 
-// Names understood by make_object: sphere torus cup cup_filled two horn.
+// Names understood by make_object: sphere torus cup cup_filled two horn relief.
 std::vector<std::string> object_names();
 TriMesh make_object(const std::string& name, double h);
 

@@ -15,7 +15,7 @@ using namespace tetmvs;
 TEST(TriMesh, ObjectsAreClosedOutwardWithTheRightGenus) {
   struct Want { const char* name; int comps; int genus; };
   for (const Want w : {Want{"sphere", 1, 0}, Want{"torus", 1, 1}, Want{"cup", 1, 0}, Want{"cup_filled", 1, 0},
-                       Want{"two", 2, 0}, Want{"horn", 1, 0}}) {
+                       Want{"two", 2, 0}, Want{"horn", 1, 0}, Want{"relief", 1, 0}}) {
     const TriMesh m = synth::make_object(w.name, 0.05);
     const MeshCheck c = check_mesh(m);
     SCOPED_TRACE(w.name);
