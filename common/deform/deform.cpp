@@ -370,7 +370,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
       std::vector<const Raster*> own;
       for (int i = 0; i < nc; ++i) own.push_back(l > 0 ? &reduced[i] : &rasters[i].raster);
       const PhotometricGradient pg = photometric_gradient(M.V, M.F, N, photo_images, partners, opt.photo_window, own);
-      fphoto = photometric_steps(pg, topo, l, opt.mesh_level(it), M.fp);
+      fphoto = photometric_steps(pg, topo, l, opt.mesh_level(it), M.fp, opt.photo_noise_floor);
       st.mean_ncc = pg.mean_ncc;
       st.photo_pixels = pg.pixels;
       double sum_px = 0;
@@ -392,10 +392,14 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     const std::vector<double> fspread = silhouette_spread(
         M.V, N, M.fp, topo, fsil,
         {spreading ? opt.sil_spread_px : 0, std::ldexp(1.0, opt.mesh_level(it)), 0.5 * opt.sil_max_px});
+    // The share of the photometric step taken: w_photo on the reduced images, where the steps
+    // of weak windows follow the noise; the whole step on the full images, whose noise floor
+    // (photometric_steps) holds those back instead
+    const double w_photo = st.photo_level == 0 ? 1.0 : opt.w_photo;
     std::vector<Eigen::Vector3d> move(nv);
     for (int v = 0; v < nv; ++v) {
       Eigen::Vector3d d = fs[v] + opt.w_silhouette * (fsil[v] + fspread[v] * N[v]);
-      if (!fphoto.empty() && fsil[v].squaredNorm() == 0) d += opt.w_photo * fphoto[v] * N[v];
+      if (!fphoto.empty() && fsil[v].squaredNorm() == 0) d += w_photo * fphoto[v] * N[v];
       const double lim = opt.max_move_px * M.fp[v];
       const double l = d.norm();
       if (l > lim) d *= lim / l;

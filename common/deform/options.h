@@ -28,7 +28,7 @@ struct Options {
   double sil_tolerance_px = 0.5;  // silhouette disagreements up to this are left to the photometric force
   double sil_spread_px = 3;       // a correction also moves the vertices this far around it (pixels of mesh_level; 0: off)
   // photometric force (photometric.h)
-  double w_photo = 0.5;           // fraction of the photometric step applied per iteration
+  double w_photo = 0.5;           // fraction of the photometric step applied per iteration on the reduced images
   int photo_start = 2;            // first iteration with the photometric force (smooth the lattice facets first)
   int photo_window = 7;           // NCC window side, pixels of the images in use (odd)
   int photo_partners = 4;         // views reprojected into each view and compared with it ...
@@ -36,6 +36,7 @@ struct Options {
   double photo_baseline_max_deg = 40;  // ... and at most this far
   int photo_coarsest_level = 4;   // the force starts on the images reduced this many times ...
   int photo_level_iterations = 7; // ... spending this many iterations on each reduced level
+  double photo_noise_floor = 0.001;  // full images: curvature floor per pixel pair (normalised gradient^2 per pixel^2)
   // step control and remeshing
   double max_move_px = 3.0;       // largest move of a vertex per iteration (full-resolution pixels, finest view)
   double max_edge_px = 3.0;       // split edges longer than this in their finest view (pixels of mesh_level)
@@ -81,6 +82,7 @@ struct Options {
         {"deform.photo_baseline_max_deg", &Options::photo_baseline_max_deg},
         {"deform.photo_coarsest_level", &Options::photo_coarsest_level},
         {"deform.photo_level_iterations", &Options::photo_level_iterations},
+        {"deform.photo_noise_floor", &Options::photo_noise_floor},
         {"deform.max_move_px", &Options::max_move_px},
         {"deform.max_edge_px", &Options::max_edge_px},
         {"deform.min_edge_px", &Options::min_edge_px},

@@ -139,7 +139,7 @@ class BoxSums {
 };
 
 struct Slot {
-  std::vector<double> grad, hess;
+  std::vector<double> grad, hess, pairs;
   std::int64_t pixels = 0, windows = 0;
   double ncc_sum = 0;
 };
@@ -306,6 +306,7 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
     Slot& acc = slots[s];
     acc.grad.assign(nv, 0.0);
     acc.hess.assign(nv, 0.0);
+    acc.pairs.assign(nv, 0.0);
     BoxSums<7> stats, coefs;
     std::vector<double> coef;
     std::vector<float> J, G;
@@ -432,6 +433,7 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
           const double r = fn[f].dot(N[vtx]) / den;  // d(depth) / d(offset of vtx), per unit weight
           acc.grad[vtx] += pg[k] * b[c] * r;
           acc.hess[vtx] += ph[k] * b[c] * r * r;
+          acc.pairs[vtx] += pn[k] * b[c] * r * r;
         }
         acc.pixels += pn[k];
       }
@@ -441,6 +443,7 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
   PhotometricGradient out;
   out.grad.assign(nv, 0.0);
   out.hess.assign(nv, 0.0);
+  out.pairs.assign(nv, 0.0);
   double ncc = 0;
   std::int64_t windows = 0;
   for (const Slot& a : slots) {
@@ -448,6 +451,7 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
     for (int v = 0; v < nv; ++v) {
       out.grad[v] += a.grad[v];
       out.hess[v] += a.hess[v];
+      out.pairs[v] += a.pairs[v];
     }
     out.pixels += a.pixels;
     ncc += a.ncc_sum;
@@ -458,27 +462,31 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
 }
 
 std::vector<double> photometric_steps(const PhotometricGradient& pg, const Topology& topo, int level,
-                                      int mesh_level, const std::vector<double>& fp) {
+                                      int mesh_level, const std::vector<double>& fp, double noise_floor) {
   const int nv = static_cast<int>(pg.grad.size());
-  require(topo.num_vertices == nv && static_cast<int>(fp.size()) == nv,
+  require(topo.num_vertices == nv && static_cast<int>(fp.size()) == nv && pg.pairs.size() == pg.hess.size(),
           "photometric_steps: topology, footprints and gradient disagree");
-  std::vector<double> g = pg.grad, h = pg.hess, g2(nv), h2(nv);
+  std::vector<double> g = pg.grad, h = pg.hess, n = pg.pairs, g2(nv), h2(nv), n2(nv);
   const int rounds = kRingRounds << std::max(0, level - mesh_level);
   for (int r = 0; r < rounds; ++r) {
 #pragma omp parallel for schedule(static)
     for (int v = 0; v < nv; ++v) {
-      double sg = g[v], sh = h[v];
+      double sg = g[v], sh = h[v], sn = n[v];
       for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) {
         sg += g[topo.nbr[q]];
         sh += h[topo.nbr[q]];
+        sn += n[topo.nbr[q]];
       }
       const double k = 1.0 + topo.degree(v);
       g2[v] = sg / k;
       h2[v] = sh / k;
+      n2[v] = sn / k;
     }
     g.swap(g2);
     h.swap(h2);
+    n.swap(n2);
   }
+
   std::vector<double> pos;
   for (double x : h)
     if (x > 0) pos.push_back(x);
@@ -492,7 +500,9 @@ std::vector<double> photometric_steps(const PhotometricGradient& pg, const Topol
   for (int v = 0; v < nv; ++v) {
     if (!(h[v] > 0)) continue;
     const double lim = max_px * fp[v];
-    step[v] = std::clamp(-g[v] / (h[v] + damping), -lim, lim);
+    // the noise floor: as if each pixel pair also saw a normalised gradient of sqrt(floor) a pixel
+    const double floor = level == 0 ? noise_floor * n[v] / (fp[v] * fp[v]) : 0.0;
+    step[v] = std::clamp(-g[v] / (h[v] + damping + floor), -lim, lim);
   }
   return step;
 }

@@ -38,6 +38,7 @@ namespace tetmvs::deform {
 struct PhotometricGradient {
   std::vector<double> grad;    // dE / dd_v per vertex (d: offset along the vertex normal, world units)
   std::vector<double> hess;    // lumped Gauss-Newton curvature per vertex (0: no pixel)
+  std::vector<double> pairs;   // the pixel pairs behind hess, weighted as in it but not by the match
   std::int64_t pixels = 0;     // pixel pairs used
   double mean_ncc = 0;         // mean NCC over the windows used
 };
@@ -63,12 +64,16 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
                                          const std::vector<const Raster*>& rasters = {});
 
 // Per vertex, the step along its normal (world units) toward the minimum of the energy:
-// g and h averaged over 2 x 2^(level - mesh_level) 1-rings (about a pixel of the level's
-// images on a mesh of ~3 px edges measured at pyramid level mesh_level), step =
-// -g / (h + 0.1 median(h)), clamped to 2 pixels of the level's images (fp: each vertex's
-// full-resolution pixel footprint). 0 where no pixel sees it.
+// g, h and the pairs n averaged over 2 x 2^(level - mesh_level) 1-rings (about a pixel of the
+// level's images on a mesh of ~3 px edges measured at pyramid level mesh_level), step =
+// -g / (h + 0.1 median(h) + floor), clamped to 2 pixels of the level's images (fp: each
+// vertex's full-resolution pixel footprint). On the full images (level 0) floor =
+// noise_floor n / fp^2, an absolute damping: a vertex whose windows match with less image
+// gradient than that (plaster, weak texture: the step would follow the noise) moves little,
+// while the relative damping alone leaves every step as long where all windows are weak.
+// 0 where no pixel sees it.
 std::vector<double> photometric_steps(const PhotometricGradient& g, const Topology& topo, int level, int mesh_level,
-                                      const std::vector<double>& fp);
+                                      const std::vector<double>& fp, double noise_floor = 0);
 
 // Partners of each view: the views whose direction from `centre` lies min_deg..max_deg
 // from the view's, nearest first, at most `count`.

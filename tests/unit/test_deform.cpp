@@ -10,6 +10,7 @@
 #include "common/deform/forces.h"
 #include "common/deform/intersect.h"
 #include "common/deform/options.h"
+#include "common/deform/photometric.h"
 #include "common/deform/remesh.h"
 #include "common/deform/topology.h"
 #include "common/error.h"
@@ -470,4 +471,27 @@ TEST(DeformRemesh, CollapseFoldsRemovesAFoldOverInAVertexFan) {
   expect_closed_genus(to_trimesh(m), 0, "after collapsing the fold");
   // nothing to do on a clean mesh
   EXPECT_EQ(collapse_folds(m, {}), 0);
+}
+
+// The noise floor on the full images: windows with little image gradient (h small for their
+// pixel pairs) get their steps cut, textured ones keep theirs; the reduced levels ignore it.
+TEST(DeformPhotometric, TheNoiseFloorDampsWeakWindowsOnTheFullImagesOnly) {
+  const TriMesh m = synth::make_object("sphere", 0.3);
+  const int nv = static_cast<int>(m.V.size());
+  const deform::Topology topo = deform::build_topology(m.F, nv);
+  const std::vector<double> fp(nv, 1.0);
+  const auto steps = [&](double grad, double hess, int level, double floor) {
+    deform::PhotometricGradient g;
+    g.grad.assign(nv, grad);
+    g.hess.assign(nv, hess);
+    g.pairs.assign(nv, 100.0);  // floor 0.001: 0.1 added to the curvature
+    return deform::photometric_steps(g, topo, level, level, fp, floor)[0];
+  };
+  // textured: curvature 100 for 100 pairs; the floor changes the step by under 0.1 %
+  EXPECT_NEAR(steps(-1.0, 100.0, 0, 0.001), steps(-1.0, 100.0, 0, 0.0), 1e-3 * steps(-1.0, 100.0, 0, 0.0));
+  // weak: curvature 0.01 for 100 pairs; the step shrinks tenfold (0.001 / 0.011 -> 0.001 / 0.111)
+  EXPECT_NEAR(steps(-0.001, 0.01, 0, 0.0), 0.001 / 0.011, 1e-9);
+  EXPECT_NEAR(steps(-0.001, 0.01, 0, 0.001), 0.001 / 0.111, 1e-9);
+  // on a reduced level the floor does nothing
+  EXPECT_EQ(steps(-0.001, 0.01, 1, 0.001), steps(-0.001, 0.01, 1, 0.0));
 }
