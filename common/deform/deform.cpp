@@ -148,8 +148,13 @@ std::vector<std::pair<int, int>> intersections_after_remesh(const std::vector<Ei
   std::vector<std::pair<std::uint64_t, int>> cur(nf);
 #pragma omp parallel for schedule(static)
   for (int f = 0; f < nf; ++f) cur[f] = {key_hash(face_key(V, F[f])), f};
-  std::sort(old.begin(), old.end());
-  std::sort(cur.begin(), cur.end());
+#pragma omp parallel sections
+  {
+#pragma omp section
+    std::sort(old.begin(), old.end());
+#pragma omp section
+    std::sort(cur.begin(), cur.end());
+  }
   // both lists walked together (a binary search per face is a cache miss per step)
   std::vector<int> match(nf, -1);
   size_t o = 0;
@@ -239,40 +244,45 @@ void reorder_for_locality(RemeshMesh& m) {
 
 // Removes self-intersections (made by remeshing, or present in the input) by umbrella
 // smoothing of the vertices of intersecting triangles and their neighbours, growing the
-// neighbourhood each round; returns the intersections left (sorted).
+// neighbourhood each round; returns the intersections left (sorted). Local: its work grows
+// with the pairs' neighbourhoods, beside one pass over the faces per round (the test).
 std::vector<std::pair<int, int>> untangle(std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F,
                                           std::vector<std::pair<int, int>> pairs, int rounds) {
   if (pairs.empty()) return pairs;
   const int nv = static_cast<int>(V.size());
-  std::vector<int> nbr_start, nbr;
-  build_neighbours(F, nv, nbr_start, nbr);
+  const VertexFaces vf(F, nv);
+  std::vector<char> mark(nv, 0), changed(F.size(), 0);
+  std::vector<int> marked, nbr;
+  const auto add = [&](int v) {
+    if (!mark[v]) mark[v] = 1, marked.push_back(v);
+  };
   for (int r = 0; r < rounds && !pairs.empty(); ++r) {
-    std::vector<char> mark(nv, 0);
     for (const auto& p : pairs)
       for (int f : {p.first, p.second})
-        for (int k = 0; k < 3; ++k) mark[F[f][k]] = 1;
-    for (int ring = 0; ring < 1 + r / 2; ++ring) {
-      std::vector<char> grown = mark;
-      for (int v = 0; v < nv; ++v)
-        if (mark[v])
-          for (int q = nbr_start[v]; q < nbr_start[v + 1]; ++q) grown[nbr[q]] = 1;
-      mark.swap(grown);
-    }
+        for (int k = 0; k < 3; ++k) add(F[f][k]);
+    for (int ring = 0; ring < 1 + r / 2; ++ring)
+      for (size_t i = 0, n = marked.size(); i < n; ++i) {
+        vf.neighbours(F, marked[i], nbr);
+        for (int w : nbr) add(w);
+      }
     // new positions of the marked vertices from the old ones, then applied
     std::vector<std::pair<int, Eigen::Vector3d>> moved;
-    for (int v = 0; v < nv; ++v) {
-      if (!mark[v]) continue;
-      const int s = nbr_start[v], e = nbr_start[v + 1];
-      if (e == s) continue;
+    for (int v : marked) {
+      vf.neighbours(F, v, nbr);
+      if (nbr.empty()) continue;
       Eigen::Vector3d m = Eigen::Vector3d::Zero();
-      for (int q = s; q < e; ++q) m += V[nbr[q]];
-      moved.emplace_back(v, 0.5 * V[v] + 0.5 * m / (e - s));
+      for (int w : nbr) m += V[w];
+      moved.emplace_back(v, 0.5 * V[v] + 0.5 * m / static_cast<double>(nbr.size()));
     }
     for (const auto& [v, x] : moved) V[v] = x;
-    std::vector<char> changed(F.size(), 0);
-    for (size_t f = 0; f < F.size(); ++f)
-      changed[f] = mark[F[f][0]] || mark[F[f][1]] || mark[F[f][2]];
+    for (int v : marked)
+      for (int f : vf.of(v)) changed[f] = 1;
     pairs = merge_intersections(pairs, changed, self_intersections(V, F, changed));
+    for (int v : marked) {
+      mark[v] = 0;
+      for (int f : vf.of(v)) changed[f] = 0;
+    }
+    marked.clear();
   }
   return pairs;
 }
@@ -285,12 +295,18 @@ std::vector<std::pair<int, int>> untangle(std::vector<Eigen::Vector3d>& V, const
 std::int64_t unfold(RemeshMesh& M, std::vector<std::pair<int, int>>& current) {
   std::int64_t total = 0;
   for (int r = 0; r < kFoldRounds && !current.empty(); ++r) {
-    const std::vector<Eigen::Vector3d> V0 = M.V;
-    const std::vector<Eigen::Vector3i> F0 = M.F;
-    const std::int64_t n = collapse_folds(M, current);
-    if (n == 0) break;
-    total += n;
-    auto after = intersections_after_remesh(V0, F0, current, M.V, M.F);
+    const FoldCollapses fc = collapse_folds(M, current);
+    if (fc.count == 0) break;
+    total += fc.count;
+    // pairs of two untouched faces carry over (renumbered); faces with a merged corner are
+    // tested again
+    std::vector<std::pair<int, int>> prev;
+    for (const auto& p : current) {
+      const int a = fc.face_to_new[p.first], b = fc.face_to_new[p.second];
+      if (a >= 0 && b >= 0) prev.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    std::sort(prev.begin(), prev.end());
+    auto after = merge_intersections(prev, fc.changed, self_intersections(M.V, M.F, fc.changed));
     current = untangle(M.V, M.F, std::move(after), kUntangleRounds);
   }
   return total;

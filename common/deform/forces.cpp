@@ -148,14 +148,22 @@ std::vector<double> vertex_footprints(const std::vector<Eigen::Vector3d>& V, con
 namespace {
 // Vertex X in front of view c, inside its image and not behind the view's z-buffer by more
 // than tol_px pixel footprints; p receives its projection.
-inline bool visible_in(const Eigen::Vector3d& X, const Camera& c, const ViewRaster& r, double tol_px,
-                       Eigen::Vector2d& p) {
-  const double d = c.depth(X);
+// X's pixel p in view c (false when behind the camera or outside the image), and its depth d.
+inline bool pixel_of(const Eigen::Vector3d& X, const Camera& c, Eigen::Vector2d& p, double& d) {
+  d = c.depth(X);
   if (!(d > 0)) return false;
   p = c.project(X);  // c.sees(X), projecting once
-  if (!(p.x() >= 0.0 && p.y() >= 0.0 && p.x() <= c.width - 1 - 0.0 && p.y() <= c.height - 1 - 0.0)) return false;
+  return p.x() >= 0.0 && p.y() >= 0.0 && p.x() <= c.width - 1 - 0.0 && p.y() <= c.height - 1 - 0.0;
+}
+// Whether a point of depth d at pixel p is at most tol_px pixel footprints behind the z-buffer.
+inline bool unoccluded(const Camera& c, const ViewRaster& r, double tol_px, const Eigen::Vector2d& p, double d) {
   const int x = static_cast<int>(round_nearest(p.x())), y = static_cast<int>(round_nearest(p.y()));
   return !(d > r.depth.at<float>(y, x) + tol_px * d / c.focal());
+}
+inline bool visible_in(const Eigen::Vector3d& X, const Camera& c, const ViewRaster& r, double tol_px,
+                       Eigen::Vector2d& p) {
+  double d;
+  return pixel_of(X, c, p, d) && unoccluded(c, r, tol_px, p, d);
 }
 }  // namespace
 
@@ -218,10 +226,12 @@ std::vector<Eigen::Vector3d> silhouette_force(const std::vector<Eigen::Vector3d>
       const double cr = n.dot(r);
       if (std::abs(cr) >= opt.rim_cos) continue;
       Eigen::Vector2d p;  // visibility only where the rest is needed: most views are not rims
-      if (!visible_in(X, c, rasters[i], opt.visibility_tol_px, p)) continue;
+      double depth;
+      if (!pixel_of(X, c, p, depth)) continue;
       const int x = static_cast<int>(round_nearest(p.x())), y = static_cast<int>(round_nearest(p.y()));
       const float sd_mesh = rasters[i].sd.at<float>(y, x);
       if (sd_mesh < -opt.sil_band_px) continue;  // not near the mesh's own silhouette boundary
+      if (!unoccluded(c, rasters[i], opt.visibility_tol_px, p, depth)) continue;
       const Eigen::Vector3d np = (n - cr * r).normalized();
       const double step = fp[v];
       const Eigen::Vector2d u = (c.project(X + step * np) - p) / step;  // pixels per world unit along np

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <span>
 #include <unordered_set>
 
 #include "common/deform/topology.h"
@@ -23,13 +24,12 @@ int opposite(const Eigen::Vector3i& t, int a, int b) {
     if (t[k] != a && t[k] != b) return t[k];
   return -1;
 }
-// Number of common neighbours of a and b (the link condition of collapsing edge ab on a
-// closed manifold: exactly the two opposite corners).
-int common_neighbours(const Topology& topo, int a, int b) {
+// Number of common entries of two sorted rows: of a's and b's neighbours, the link
+// condition of collapsing edge ab on a closed manifold is exactly two (the opposite corners).
+int common_count(std::span<const int> x, std::span<const int> y) {
   int common = 0;
-  auto i = topo.nbr.begin() + topo.nbr_start[a], ie = topo.nbr.begin() + topo.nbr_start[a + 1];
-  auto j = topo.nbr.begin() + topo.nbr_start[b], je = topo.nbr.begin() + topo.nbr_start[b + 1];
-  while (i != ie && j != je) {
+  auto i = x.begin(), j = y.begin();
+  while (i != x.end() && j != y.end()) {
     if (*i < *j) ++i;
     else if (*j < *i) ++j;
     else { ++common; ++i; ++j; }
@@ -41,32 +41,46 @@ int common_neighbours(const Topology& topo, int a, int b) {
 // the two faces of edge ab die, and both ends and their neighbours are locked for the rest
 // of the batch; finish() rewrites the faces and drops unused vertices.
 struct CollapseBatch {
-  std::vector<char> locked, face_dead;
+  std::vector<char> locked, face_dead, merged;
   std::vector<int> remap;
   std::int64_t count = 0;
-  CollapseBatch(int nv, int nf) : locked(nv, 0), face_dead(nf, 0), remap(nv) {
+  CollapseBatch(int nv, int nf) : locked(nv, 0), face_dead(nf, 0), merged(nv, 0), remap(nv) {
     std::iota(remap.begin(), remap.end(), 0);
   }
-  void collapse(RemeshMesh& m, const Topology& topo, int a, int b, int f1, int f2, const Eigen::Vector3d& p,
-                double fp) {
+  // na, nb: the neighbours of a and b
+  void collapse(RemeshMesh& m, int a, int b, int f1, int f2, const Eigen::Vector3d& p, double fp,
+                std::span<const int> na, std::span<const int> nb) {
     m.V[a] = p;
     m.fp[a] = fp;
     remap[b] = a;
     face_dead[f1] = face_dead[f2] = 1;
-    for (int end : {a, b}) {
-      locked[end] = 1;
-      for (int q = topo.nbr_start[end]; q < topo.nbr_start[end + 1]; ++q) locked[topo.nbr[q]] = 1;
-    }
+    merged[a] = merged[b] = 1;
+    locked[a] = locked[b] = 1;
+    for (int w : na) locked[w] = 1;
+    for (int w : nb) locked[w] = 1;
     ++count;
   }
-  std::int64_t finish(RemeshMesh& m) const {
+  // Applies the batch; with faces, also what it did to the faces (FoldCollapses).
+  std::int64_t finish(RemeshMesh& m, FoldCollapses* faces = nullptr) const {
     if (count == 0) return 0;
     std::vector<Eigen::Vector3i> F;
     F.reserve(m.F.size());
-    for (size_t f = 0; f < m.F.size(); ++f)
-      if (!face_dead[f]) F.emplace_back(remap[m.F[f][0]], remap[m.F[f][1]], remap[m.F[f][2]]);
+    if (faces) {
+      faces->face_to_new.assign(m.F.size(), -1);
+      faces->changed.clear();
+    }
+    for (size_t f = 0; f < m.F.size(); ++f) {
+      const auto& t = m.F[f];
+      const Eigen::Vector3i r(remap[t[0]], remap[t[1]], remap[t[2]]);
+      if (face_dead[f] || r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) continue;
+      if (faces) {
+        faces->face_to_new[f] = static_cast<int>(F.size());
+        faces->changed.push_back(merged[t[0]] || merged[t[1]] || merged[t[2]]);
+      }
+      F.push_back(r);
+    }
     m.F.swap(F);
-    compact(m);
+    compact(m);  // drops the merged-away vertices; keeps every face, in order
     return count;
   }
 };
@@ -185,7 +199,7 @@ std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ra
     const int c = opposite(m.F[f1], a, b), d = opposite(m.F[f2], a, b);
     if (c < 0 || d < 0 || c == d) continue;
     if (topo.degree(c) <= 3 || topo.degree(d) <= 3) continue;
-    if (common_neighbours(topo, a, b) != 2) continue;  // link condition: exactly {c, d}
+    if (common_count(topo.neighbours(a), topo.neighbours(b)) != 2) continue;  // link condition: exactly {c, d}
     const Eigen::Vector3d p = 0.5 * (m.V[a] + m.V[b]);
     const double fpp = 0.5 * (m.fp[a] + m.fp[b]);
     bool ok = true;
@@ -207,7 +221,7 @@ std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ra
       }
     }
     if (!ok) continue;
-    batch.collapse(m, topo, a, b, f1, f2, p, fpp);  // b into a
+    batch.collapse(m, a, b, f1, f2, p, fpp, topo.neighbours(a), topo.neighbours(b));  // b into a
   }
   return batch.finish(m);
 }
@@ -273,24 +287,33 @@ std::int64_t flip_edges(RemeshMesh& m, double max_dihedral_deg) {
 
 namespace tetmvs::deform {
 
-std::int64_t collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>>& pairs) {
-  if (pairs.empty()) return 0;
+FoldCollapses collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>>& pairs) {
+  FoldCollapses out;
+  if (pairs.empty()) return out;
   const int nv = static_cast<int>(m.V.size()), nf = static_cast<int>(m.F.size());
-  const Topology topo = build_topology(m.F, nv);
+  // the adjacency of the few vertices around the pairs, read from each vertex's faces (a
+  // whole Topology would cost more than the collapses on a mesh of millions)
+  const VertexFaces vf(m.F, nv);
+  const auto neighbours = [&](int v) {
+    std::vector<int> r;
+    vf.neighbours(m.F, v, r);
+    return r;
+  };
   // candidate edges: those at a corner of an intersecting face, shortest first (in world
   // units: the fold is sub-pixel, the edge of a vertex pushed past its neighbour is short
-  // and need not belong to the intersecting faces)
-  std::vector<int> cand;
+  // and need not belong to the intersecting faces); ties in (lower, upper) vertex order
+  std::vector<std::array<int, 2>> cand;
   for (const auto& p : pairs)
     for (int f : {p.first, p.second})
       for (int k = 0; k < 3; ++k) {
         const int v = m.F[f][k];
-        for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) cand.push_back(topo.find_edge(v, topo.nbr[q]));
+        for (int w : neighbours(v)) cand.push_back({std::min(v, w), std::max(v, w)});
       }
   std::sort(cand.begin(), cand.end());
   cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-  const auto len = [&](int e) { return (m.V[topo.edge_v[e][0]] - m.V[topo.edge_v[e][1]]).squaredNorm(); };
-  std::sort(cand.begin(), cand.end(), [&](int x, int y) { return len(x) < len(y) || (len(x) == len(y) && x < y); });
+  const auto len = [&](const std::array<int, 2>& e) { return (m.V[e[0]] - m.V[e[1]]).squaredNorm(); };
+  std::sort(cand.begin(), cand.end(),
+            [&](const auto& x, const auto& y) { return len(x) < len(y) || (len(x) == len(y) && x < y); });
   CollapseBatch batch(nv, nf);
   std::vector<char>& locked = batch.locked;
   std::vector<char> pair_done(pairs.size(), 0);
@@ -307,15 +330,18 @@ std::int64_t collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>
       for (int f : {pairs[i].first, pairs[i].second})
         for (int k = 0; k < 3; ++k) vp[fill[m.F[f][k]]++] = static_cast<int>(i);
   }
-  for (int e : cand) {
-    if (topo.edge_count[e] != 2) continue;
-    const int a = topo.edge_v[e][0], b = topo.edge_v[e][1];
+  for (const auto& [a, b] : cand) {
     if (locked[a] || locked[b]) continue;
-    const int f1 = topo.edge_f[e][0], f2 = topo.edge_f[e][1];
+    std::vector<int> edge_faces;  // the faces of a that hold b, ascending
+    for (int f : vf.of(a))
+      if (m.F[f][0] == b || m.F[f][1] == b || m.F[f][2] == b) edge_faces.push_back(f);
+    if (edge_faces.size() != 2) continue;
+    const int f1 = edge_faces[0], f2 = edge_faces[1];
     const int c = opposite(m.F[f1], a, b), d = opposite(m.F[f2], a, b);
     if (c < 0 || d < 0 || c == d) continue;
-    if (topo.degree(a) <= 3 || topo.degree(b) <= 3 || topo.degree(c) <= 3 || topo.degree(d) <= 3) continue;
-    if (common_neighbours(topo, a, b) != 2) continue;
+    const std::vector<int> na = neighbours(a), nb = neighbours(b);
+    if (na.size() <= 3 || nb.size() <= 3 || neighbours(c).size() <= 3 || neighbours(d).size() <= 3) continue;
+    if (common_count(na, nb) != 2) continue;
     // one collapse per intersecting pair: skip edges whose ends touch no pair left
     std::vector<int> touched;
     for (int end : {a, b})
@@ -329,10 +355,8 @@ std::int64_t collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>
     // triangle may become degenerate.
     Eigen::Vector3d nref = Eigen::Vector3d::Zero();
     for (int end : {a, b})
-      for (int q = topo.vf_start[end]; q < topo.vf_start[end + 1]; ++q) {
-        const int f = topo.vf[q];
+      for (int f : vf.of(end))
         if (f != f1 && f != f2) nref += tri_cross(m.V, m.F[f][0], m.F[f][1], m.F[f][2]);
-      }
     if (!(nref.norm() > 0)) continue;
     nref.normalize();
     const Eigen::Vector3d options[3] = {0.5 * (m.V[a] + m.V[b]), m.V[a], m.V[b]};
@@ -341,8 +365,7 @@ std::int64_t collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>
     for (const Eigen::Vector3d& x : options) {
       double worst = 2;
       for (int end : {a, b})
-        for (int q = topo.vf_start[end]; q < topo.vf_start[end + 1]; ++q) {
-          const int f = topo.vf[q];
+        for (int f : vf.of(end)) {
           if (f == f1 || f == f2) continue;
           const auto& t = m.F[f];
           Eigen::Vector3d P[3];
@@ -355,9 +378,10 @@ std::int64_t collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>
     }
     if (!(best > -1.5)) continue;
     for (int i : touched) pair_done[i] = 1;
-    batch.collapse(m, topo, a, b, f1, f2, p, 0.5 * (m.fp[a] + m.fp[b]));
+    batch.collapse(m, a, b, f1, f2, p, 0.5 * (m.fp[a] + m.fp[b]), na, nb);
   }
-  return batch.finish(m);
+  out.count = batch.finish(m, &out);
+  return out;
 }
 
 }  // namespace tetmvs::deform

@@ -36,10 +36,18 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px);
 // vertices, both of degree > 3), no surrounding triangle turns by more than 60 degrees
 // or becomes degenerate, and no new edge exceeds max_px. Unused vertices are removed.
 // Returns the number of collapses.
+std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ratio, double max_px);
+
 // Drops faces with a repeated vertex and vertices no face uses (order kept).
 void compact(RemeshMesh& m);
 
-std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ratio, double max_px);
+// What collapse_folds did to the faces (empty maps when it collapsed nothing): the new
+// index of each old face (-1: removed), and per new face whether a corner was merged.
+struct FoldCollapses {
+  std::int64_t count = 0;
+  std::vector<int> face_to_new;
+  std::vector<char> changed;
+};
 
 // Removes fold-overs: for each listed pair of intersecting faces (indices into m.F), the
 // shortest edge at a corner of the two faces whose collapse keeps the mesh closed and
@@ -47,8 +55,8 @@ std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ra
 // vertex placed at either end or the midpoint, where the surrounding triangles turn least
 // from the fan's mean normal; one collapse per pair and none in the 1-ring of another. No
 // turn limit (the fold is the turn). deform uses it on the sub-pixel fold-overs within one
-// vertex's fan that smoothing does not unfold. Returns the number of collapses.
-std::int64_t collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>>& pairs);
+// vertex's fan that smoothing does not unfold. Returns what it did.
+FoldCollapses collapse_folds(RemeshMesh& m, const std::vector<std::pair<int, int>>& pairs);
 
 // Flips edges whose two opposite angles sum to more than pi (Delaunay criterion), when
 // the two triangles are within max_dihedral_deg of coplanar, the new edge does not exist

@@ -83,34 +83,23 @@ Topology build_topology(const std::vector<Eigen::Vector3i>& F, int nv) {
   return t;
 }
 
-void build_neighbours(const std::vector<Eigen::Vector3i>& F, int nv, std::vector<int>& nbr_start,
-                      std::vector<int>& nbr) {
-  // every corner of a face lists its two other corners, then each row is sorted and its
-  // repeats (an edge's second face) dropped
-  std::vector<int> start(static_cast<size_t>(nv) + 1, 0);
+VertexFaces::VertexFaces(const std::vector<Eigen::Vector3i>& F, int nv) : start(static_cast<size_t>(nv) + 1, 0) {
   for (const auto& f : F)
-    for (int k = 0; k < 3; ++k) start[f[k] + 1] += 2;
+    for (int k = 0; k < 3; ++k) ++start[f[k] + 1];
   for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<int> all(start[nv]);
+  faces.resize(start[nv]);
   std::vector<int> fill(start.begin(), start.end() - 1);
-  for (const auto& f : F)
-    for (int k = 0; k < 3; ++k) {
-      const int a = f[k], b = f[(k + 1) % 3];
-      all[fill[a]++] = b;
-      all[fill[b]++] = a;
-    }
-  std::vector<int> count(nv);
-#pragma omp parallel for schedule(static, 4096)
-  for (int v = 0; v < nv; ++v) {
-    const auto b = all.begin() + start[v], e = all.begin() + start[v + 1];
-    std::sort(b, e);
-    count[v] = static_cast<int>(std::unique(b, e) - b);
-  }
-  nbr_start.assign(static_cast<size_t>(nv) + 1, 0);
-  for (int v = 0; v < nv; ++v) nbr_start[v + 1] = nbr_start[v] + count[v];
-  nbr.resize(nbr_start[nv]);
-#pragma omp parallel for schedule(static, 4096)
-  for (int v = 0; v < nv; ++v) std::copy_n(all.begin() + start[v], count[v], nbr.begin() + nbr_start[v]);
+  for (int f = 0; f < static_cast<int>(F.size()); ++f)
+    for (int k = 0; k < 3; ++k) faces[fill[F[f][k]]++] = f;  // ascending f
+}
+
+void VertexFaces::neighbours(const std::vector<Eigen::Vector3i>& F, int v, std::vector<int>& out) const {
+  out.clear();
+  for (int f : of(v))
+    for (int k = 0; k < 3; ++k)
+      if (F[f][k] != v) out.push_back(F[f][k]);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
 }  // namespace tetmvs::deform

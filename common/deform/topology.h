@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace tetmvs::deform {
@@ -21,6 +22,7 @@ struct Topology {
 
   int num_edges() const { return static_cast<int>(edge_v.size()); }
   int degree(int v) const { return nbr_start[v + 1] - nbr_start[v]; }
+  std::span<const int> neighbours(int v) const { return {nbr.data() + nbr_start[v], nbr.data() + nbr_start[v + 1]}; }
   // Edge id of (a, b) or -1 (binary search).
   int find_edge(int a, int b) const;
   bool closed_manifold() const;  // every edge has exactly two faces
@@ -28,9 +30,15 @@ struct Topology {
 
 Topology build_topology(const std::vector<Eigen::Vector3i>& F, int num_vertices);
 
-// The vertex neighbours alone, as Topology's nbr_start / nbr (each row sorted, no repeats),
-// for callers that need no edges or faces (deform's untangling, many times an iteration).
-void build_neighbours(const std::vector<Eigen::Vector3i>& F, int num_vertices, std::vector<int>& nbr_start,
-                      std::vector<int>& nbr);
+// Each vertex's faces (compressed rows, ascending) and, read from them, its neighbours:
+// for local work on a large mesh (deform's untangling and fold collapses), which needs
+// the adjacency of a few vertices many times an iteration. One counting sort, no edge list.
+struct VertexFaces {
+  std::vector<int> start, faces;  // faces of v: faces[start[v] .. start[v+1])
+  VertexFaces(const std::vector<Eigen::Vector3i>& F, int num_vertices);
+  std::span<const int> of(int v) const { return {faces.data() + start[v], faces.data() + start[v + 1]}; }
+  // v's neighbours into out: sorted, no repeats (Topology's row of v)
+  void neighbours(const std::vector<Eigen::Vector3i>& F, int v, std::vector<int>& out) const;
+};
 
 }  // namespace tetmvs::deform

@@ -66,17 +66,21 @@ TEST(DeformTopology, EdgesAndNeighboursOfATetrahedron) {
   EXPECT_EQ(t.find_edge(0, 0), -1);
 }
 
-// The neighbours alone (untangling's) are the topology's, row for row and in order (the
-// umbrella mean sums them in that order).
-TEST(DeformTopology, NeighboursAloneAreTheTopologys) {
+// The neighbours read from the vertices' faces (untangling's, fold collapses') are the
+// topology's, row for row and in order (the umbrella mean sums them in that order).
+TEST(DeformTopology, NeighboursFromTheFacesAreTheTopologys) {
   for (const TriMesh& m : {synth::make_sphere(0.2), synth::make_torus(0.15)}) {
     const int nv = static_cast<int>(m.V.size());
     const Topology t = build_topology(m.F, nv);
-    std::vector<int> start, nbr;
-    build_neighbours(m.F, nv, start, nbr);
-    EXPECT_EQ(start, t.nbr_start);
-    EXPECT_EQ(nbr, t.nbr);
-    EXPECT_GT(nbr.size(), 5u * m.V.size());
+    const VertexFaces vf(m.F, nv);
+    EXPECT_EQ(vf.start, t.vf_start);
+    EXPECT_EQ(vf.faces, t.vf);
+    std::vector<int> row;
+    for (int v = 0; v < nv; ++v) {
+      vf.neighbours(m.F, v, row);
+      const auto want = t.neighbours(v);
+      ASSERT_EQ(row, std::vector<int>(want.begin(), want.end())) << "vertex " << v;
+    }
   }
 }
 
@@ -464,13 +468,36 @@ TEST(DeformRemesh, CollapseFoldsRemovesAFoldOverInAVertexFan) {
   }
   EXPECT_GT(sharing, 0);
   const size_t nv0 = m.V.size();
-  EXPECT_GE(collapse_folds(m, before), 1);
+  const size_t nf0 = m.F.size();
+  const std::vector<Eigen::Vector3i> F0 = m.F;
+  const std::vector<Eigen::Vector3d> V0 = m.V;
+  const FoldCollapses fc = collapse_folds(m, before);
+  EXPECT_EQ(fc.count, 1);
   EXPECT_EQ(m.V.size(), nv0 - 1);  // one collapse for the whole pleat
+  // the face map: the edge's two faces removed, the others kept in order; the faces that
+  // lost a corner to the merge are flagged changed, and only they
+  ASSERT_EQ(fc.face_to_new.size(), nf0);
+  ASSERT_EQ(fc.changed.size(), m.F.size());
+  EXPECT_EQ(std::count(fc.face_to_new.begin(), fc.face_to_new.end(), -1), 2);
+  int last = -1, changed = 0;
+  for (size_t f = 0; f < nf0; ++f) {
+    const int g = fc.face_to_new[f];
+    if (g < 0) continue;
+    EXPECT_EQ(g, last + 1);
+    last = g;
+    // a face not flagged keeps its corners and their positions
+    if (!fc.changed[g]) {
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(m.V[m.F[g][k]], V0[F0[f][k]]);
+    }
+    changed += fc.changed[g];
+  }
+  EXPECT_GE(changed, 6);
+  EXPECT_LE(changed, 20);
   EXPECT_EQ(m.fp.size(), m.V.size());
   EXPECT_TRUE(self_intersections(m.V, m.F).empty());
   expect_closed_genus(to_trimesh(m), 0, "after collapsing the fold");
   // nothing to do on a clean mesh
-  EXPECT_EQ(collapse_folds(m, {}), 0);
+  EXPECT_EQ(collapse_folds(m, {}).count, 0);
 }
 
 // The noise floor on the full images: windows with little image gradient (h small for their
