@@ -14,7 +14,7 @@ class Params;
 namespace deform {
 
 struct Options {
-  int iterations = 32;            // deformation iterations
+  int iterations = 34;            // deformation iterations
   // smoothness (non-shrinking): tangential umbrella + small normal umbrella + normal bi-Laplacian
   double smooth_tangent = 0.5;    // weight of the umbrella's tangential component (mesh relaxation)
   double smooth_normal = 0.05;    // weight of the umbrella's normal component (shrinks: keep small)
@@ -36,7 +36,7 @@ struct Options {
   double photo_baseline_max_deg = 40;  // ... and at most this far
   int photo_coarsest_level = 4;   // the force starts on the images reduced this many times ...
   int photo_level_iterations = 7; // ... spending this many iterations on each reduced level
-  double photo_noise_floor = 0.001;  // full images: curvature floor per pixel pair (normalised gradient^2 per pixel^2)
+  double photo_noise_floor = 0.003;  // full images: curvature floor per pixel pair (normalised gradient^2 per pixel^2)
   // step control and remeshing
   double max_move_px = 3.0;       // largest move of a vertex per iteration (full-resolution pixels, finest view)
   double max_edge_px = 3.0;       // split edges longer than this in their finest view (pixels of mesh_level)
