@@ -5,8 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <iterator>
+#include <numeric>
 #include <ctime>
 #include <opencv2/imgproc.hpp>
 
@@ -113,75 +113,25 @@ std::vector<std::pair<int, int>> merge_intersections(const std::vector<std::pair
   return out;
 }
 
-// Faces of a mesh keyed by their corners' positions (in order): a face that remeshing
-// did not touch keeps its key.
-using FaceKey = std::array<double, 9>;
-FaceKey face_key(const std::vector<Eigen::Vector3d>& V, const Eigen::Vector3i& t) {
-  FaceKey k;
-  for (int c = 0; c < 3; ++c)
-    for (int d = 0; d < 3; ++d) k[3 * c + d] = V[t[c]][d];
-  return k;
-}
-std::uint64_t key_hash(const FaceKey& k) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (double d : k) {
-    std::uint64_t b;
-    std::memcpy(&b, &d, sizeof b);
-    h = (h ^ b) * 1099511628211ull;
-  }
-  return h;
-}
-
-// Intersections after remeshing from those before it: pairs of two untouched faces are
-// carried over (renumbered), faces that remeshing made or moved are tested again.
-std::vector<std::pair<int, int>> intersections_after_remesh(const std::vector<Eigen::Vector3d>& V0,
-                                                            const std::vector<Eigen::Vector3i>& F0,
-                                                            const std::vector<std::pair<int, int>>& pairs0,
-                                                            const std::vector<Eigen::Vector3d>& V,
-                                                            const std::vector<Eigen::Vector3i>& F) {
-  // Old faces sorted by (key hash, index); each new face's match is the lowest old face
-  // with its key; in new-face order, an old face is taken by the first new face only.
-  const int nf0 = static_cast<int>(F0.size()), nf = static_cast<int>(F.size());
-  std::vector<std::pair<std::uint64_t, int>> old(nf0);
-#pragma omp parallel for schedule(static)
-  for (int f = 0; f < nf0; ++f) old[f] = {key_hash(face_key(V0, F0[f])), f};
-  std::vector<std::pair<std::uint64_t, int>> cur(nf);
-#pragma omp parallel for schedule(static)
-  for (int f = 0; f < nf; ++f) cur[f] = {key_hash(face_key(V, F[f])), f};
-#pragma omp parallel sections
-  {
-#pragma omp section
-    std::sort(old.begin(), old.end());
-#pragma omp section
-    std::sort(cur.begin(), cur.end());
-  }
-  // both lists walked together (a binary search per face is a cache miss per step)
-  std::vector<int> match(nf, -1);
-  size_t o = 0;
-  for (size_t c = 0; c < cur.size(); ++c) {
-    const std::uint64_t h = cur[c].first;
-    while (o < old.size() && old[o].first < h) ++o;
-    const FaceKey k = face_key(V, F[cur[c].second]);
-    for (size_t it = o; it < old.size() && old[it].first == h; ++it)
-      if (face_key(V0, F0[old[it].second]) == k) {
-        match[cur[c].second] = old[it].second;
-        break;
-      }
-  }
+// Intersections after remeshing from those before it (pairs0, faces numbered as when
+// m.origin's tracking began): pairs of two faces remeshing left alone are carried over
+// (renumbered), the faces it made or moved are tested again.
+std::vector<std::pair<int, int>> intersections_after_remesh(const RemeshMesh& m, int nf0,
+                                                            const std::vector<std::pair<int, int>>& pairs0) {
+  const int nf = static_cast<int>(m.F.size());
   std::vector<int> to_new(nf0, -1);
-  std::vector<char> changed(nf, 1);
-  for (int f = 0; f < nf; ++f)
-    if (match[f] >= 0 && to_new[match[f]] < 0) {
-      to_new[match[f]] = f;
-      changed[f] = 0;
-    }
+  std::vector<char> changed(nf, 0);
+  for (int f = 0; f < nf; ++f) {
+    if (m.origin[f] < 0) changed[f] = 1;
+    else to_new[m.origin[f]] = f;
+  }
   std::vector<std::pair<int, int>> prev;
   for (const auto& p : pairs0) {
     const int a = to_new[p.first], b = to_new[p.second];
     if (a >= 0 && b >= 0) prev.emplace_back(std::min(a, b), std::max(a, b));
   }
   std::sort(prev.begin(), prev.end());
-  return merge_intersections(prev, changed, self_intersections(V, F, changed));
+  return merge_intersections(prev, changed, self_intersections(m.V, m.F, changed));
 }
 
 // Renumbers vertices along a Morton (Z-order) curve of their positions and sorts the
@@ -233,13 +183,16 @@ void reorder_for_locality(RemeshMesh& m) {
   }
   std::sort(fk.begin(), fk.end());
   std::vector<Eigen::Vector3i> F(nf);
+  std::vector<int> origin(m.origin.empty() ? 0 : nf);
   for (int k = 0; k < nf; ++k) {
     const auto& t = m.F[fk[k].second];
     F[k] = Eigen::Vector3i(id[t[0]], id[t[1]], id[t[2]]);
+    if (!origin.empty()) origin[k] = m.origin[fk[k].second];
   }
   m.V.swap(V);
   m.F.swap(F);
   m.fp.swap(fp);
+  m.origin.swap(origin);
 }
 
 // Removes self-intersections (made by remeshing, or present in the input) by umbrella
@@ -467,8 +420,6 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     st.mean_move_px = nv ? sum_px / nv : 0;
     st.max_move_px = max_px;
     M.V.swap(V1);
-    const std::vector<Eigen::Vector3d> V_moved = M.V;
-    const std::vector<Eigen::Vector3i> F_moved = M.F;
     pt.lap(kPartMove);
 
     // Remesh.
@@ -476,6 +427,9 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     pt.lap(kPartFootprints);
     // edges in pixels of the next iteration's images
     const double ms = static_cast<double>(1 << opt.mesh_level(it + 1));
+    const int nf_moved = static_cast<int>(M.F.size());
+    M.origin.resize(nf_moved);
+    std::iota(M.origin.begin(), M.origin.end(), 0);
     st.splits = split_long_edges(M, ms * opt.max_edge_px);
     st.collapses = collapse_short_edges(M, ms * opt.min_edge_px, opt.needle_ratio, ms * opt.max_edge_px);
     st.flips = flip_edges(M, opt.flip_dihedral_deg);
@@ -483,7 +437,8 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     reorder_for_locality(M);
     pt.lap(kPartRemesh);
     // Remeshing may make intersections (a flip or a collapse in a tight spot): undo them.
-    auto after = intersections_after_remesh(V_moved, F_moved, pairs, M.V, M.F);
+    auto after = intersections_after_remesh(M, nf_moved, pairs);
+    M.origin.clear();
     pt.lap(kPartRemeshCheck);
     current = untangle(M.V, M.F, std::move(after), kUntangleRounds);
     const std::int64_t folds = unfold(M, current);

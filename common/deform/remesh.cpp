@@ -64,6 +64,7 @@ struct CollapseBatch {
   std::int64_t finish(RemeshMesh& m, FoldCollapses* faces = nullptr) const {
     if (count == 0) return 0;
     std::vector<Eigen::Vector3i> F;
+    std::vector<int> origin;
     F.reserve(m.F.size());
     if (faces) {
       faces->face_to_new.assign(m.F.size(), -1);
@@ -73,13 +74,16 @@ struct CollapseBatch {
       const auto& t = m.F[f];
       const Eigen::Vector3i r(remap[t[0]], remap[t[1]], remap[t[2]]);
       if (face_dead[f] || r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) continue;
+      const bool moved = merged[t[0]] || merged[t[1]] || merged[t[2]];
       if (faces) {
         faces->face_to_new[f] = static_cast<int>(F.size());
-        faces->changed.push_back(merged[t[0]] || merged[t[1]] || merged[t[2]]);
+        faces->changed.push_back(moved);
       }
+      if (!m.origin.empty()) origin.push_back(moved ? -1 : m.origin[f]);
       F.push_back(r);
     }
     m.F.swap(F);
+    if (!m.origin.empty()) m.origin.swap(origin);
     compact(m);  // drops the merged-away vertices; keeps every face, in order
     return count;
   }
@@ -104,12 +108,16 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
     }
   if (count == 0) return 0;
   std::vector<Eigen::Vector3i> F;
+  std::vector<int> origin;
+  const bool track = !m.origin.empty();
   F.reserve(m.F.size() + 3 * static_cast<size_t>(count));
   for (int f = 0; f < nf; ++f) {
     const auto& t = m.F[f];
     const auto& fe = topo.face_e[f];
     const int c = mark[fe[0]] + mark[fe[1]] + mark[fe[2]];
+    if (track) origin.resize(F.size() + (c == 0 ? 1 : c + 1), -1);
     if (c == 0) {
+      if (track) origin.back() = m.origin[f];
       F.push_back(t);
     } else if (c == 1) {
       int k = 0;
@@ -141,13 +149,20 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
     }
   }
   m.F.swap(F);
+  if (track) m.origin.swap(origin);
   return count;
 }
 
 void compact(RemeshMesh& m) {
   std::vector<Eigen::Vector3i> F;
-  for (const auto& t : m.F)
-    if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) F.push_back(t);
+  std::vector<int> origin;
+  for (size_t f = 0; f < m.F.size(); ++f) {
+    const auto& t = m.F[f];
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+    F.push_back(t);
+    if (!m.origin.empty()) origin.push_back(m.origin[f]);
+  }
+  if (!m.origin.empty()) m.origin.swap(origin);
   std::vector<int> id(m.V.size(), -1);
   for (const auto& t : F)
     for (int k = 0; k < 3; ++k) id[t[k]] = 0;
@@ -272,6 +287,7 @@ std::int64_t flip_edges(RemeshMesh& m, double max_dihedral_deg) {
     if (!(m1.dot(ns) > 0) || !(m2.dot(ns) > 0)) continue;
     m.F[f1] = Eigen::Vector3i(c, a, d);
     m.F[f2] = Eigen::Vector3i(d, b, c);
+    if (!m.origin.empty()) m.origin[f1] = m.origin[f2] = -1;
     face_locked[f1] = face_locked[f2] = 1;
     created.insert(key(c, d));
     --degree[a];

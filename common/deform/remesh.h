@@ -17,6 +17,9 @@ struct RemeshMesh {
   std::vector<Eigen::Vector3d> V;
   std::vector<Eigen::Vector3i> F;
   std::vector<double> fp;  // per-vertex pixel footprint (world units per pixel), > 0
+  // Per face, when tracked (not empty): the face it was when the tracking began, or -1 when
+  // an operation made it or moved a corner. Every operation below keeps it.
+  std::vector<int> origin;
 };
 
 // Length of edge (a, b) in pixels.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <string>
 #include <opencv2/imgproc.hpp>
 
@@ -446,6 +447,44 @@ TEST(DeformOptions, TheMeshFollowsTheImagesInUse) {
   std::vector<int> levels;
   for (int it = 0; it <= o.iterations; ++it) levels.push_back(o.mesh_level(it));
   EXPECT_EQ(levels, (std::vector<int>{3, 3, 3, 3, 3, 2, 2, 2, 1, 1, 1, 0, 0, 0, 0}));
+}
+
+// Remeshing keeps, per face, the face it was (deform carries the intersecting pairs of the
+// faces it leaves alone over and retests only the others): a face with an origin has that
+// face's corners, in order, at the same positions, and no face claims an origin twice.
+TEST(DeformRemesh, RemeshingTracksTheFacesItLeavesAlone) {
+  const TriMesh s = synth::make_sphere(0.15);
+  RemeshMesh m = from_trimesh(s, 0.1);
+  std::vector<double> len;
+  const Topology topo = build_topology(m.F, static_cast<int>(m.V.size()));
+  for (const auto& e : topo.edge_v) len.push_back(edge_px(m, e[0], e[1]));
+  std::sort(len.begin(), len.end());
+  const std::vector<Eigen::Vector3d> V0 = m.V;
+  const std::vector<Eigen::Vector3i> F0 = m.F;
+  m.origin.resize(F0.size());
+  std::iota(m.origin.begin(), m.origin.end(), 0);
+  const std::int64_t splits = split_long_edges(m, len[len.size() * 9 / 10]);
+  const std::int64_t collapses = collapse_short_edges(m, len[len.size() / 10], 0.2, 1e9);
+  const std::int64_t flips = flip_edges(m, 30);
+  compact(m);
+  EXPECT_GT(splits, 0);
+  EXPECT_GT(collapses, 0);
+  EXPECT_GT(flips, 0);
+  ASSERT_EQ(m.origin.size(), m.F.size());
+  std::vector<char> claimed(F0.size(), 0);
+  std::int64_t kept = 0;
+  for (size_t f = 0; f < m.F.size(); ++f) {
+    const int o = m.origin[f];
+    if (o < 0) continue;
+    ++kept;
+    ASSERT_LT(o, static_cast<int>(F0.size()));
+    EXPECT_FALSE(claimed[o]) << "face " << o << " claimed twice";
+    claimed[o] = 1;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(m.V[m.F[f][k]], V0[F0[o][k]]) << "face " << f;
+  }
+  EXPECT_GT(kept, static_cast<std::int64_t>(F0.size()) / 4);
+  EXPECT_LT(kept, static_cast<std::int64_t>(m.F.size()));
+  expect_closed_genus(to_trimesh(m), 0, "after remeshing with tracking");
 }
 
 TEST(DeformRemesh, CollapseFoldsRemovesAFoldOverInAVertexFan) {
