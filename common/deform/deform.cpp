@@ -113,9 +113,24 @@ std::vector<std::pair<int, int>> merge_intersections(const std::vector<std::pair
   return out;
 }
 
+// Intersections after faces were renumbered and some changed: the pairs of pairs0 whose two
+// faces survive unchanged carry over (to_new: each old face's new index, -1 when removed),
+// and the changed faces (flags over the new faces) are tested again.
+std::vector<std::pair<int, int>> carry_intersections(const std::vector<Eigen::Vector3d>& V,
+                                                     const std::vector<Eigen::Vector3i>& F,
+                                                     const std::vector<std::pair<int, int>>& pairs0,
+                                                     const std::vector<int>& to_new, const std::vector<char>& changed) {
+  std::vector<std::pair<int, int>> prev;
+  for (const auto& p : pairs0) {
+    const int a = to_new[p.first], b = to_new[p.second];
+    if (a >= 0 && b >= 0) prev.emplace_back(std::min(a, b), std::max(a, b));
+  }
+  std::sort(prev.begin(), prev.end());
+  return merge_intersections(prev, changed, self_intersections(V, F, changed));
+}
+
 // Intersections after remeshing from those before it (pairs0, faces numbered as when
-// m.origin's tracking began): pairs of two faces remeshing left alone are carried over
-// (renumbered), the faces it made or moved are tested again.
+// m.origin's tracking began, nf0 of them).
 std::vector<std::pair<int, int>> intersections_after_remesh(const RemeshMesh& m, int nf0,
                                                             const std::vector<std::pair<int, int>>& pairs0) {
   const int nf = static_cast<int>(m.F.size());
@@ -125,13 +140,7 @@ std::vector<std::pair<int, int>> intersections_after_remesh(const RemeshMesh& m,
     if (m.origin[f] < 0) changed[f] = 1;
     else to_new[m.origin[f]] = f;
   }
-  std::vector<std::pair<int, int>> prev;
-  for (const auto& p : pairs0) {
-    const int a = to_new[p.first], b = to_new[p.second];
-    if (a >= 0 && b >= 0) prev.emplace_back(std::min(a, b), std::max(a, b));
-  }
-  std::sort(prev.begin(), prev.end());
-  return merge_intersections(prev, changed, self_intersections(m.V, m.F, changed));
+  return carry_intersections(m.V, m.F, pairs0, to_new, changed);
 }
 
 // Renumbers vertices along a Morton (Z-order) curve of their positions and sorts the
@@ -251,15 +260,7 @@ std::int64_t unfold(RemeshMesh& M, std::vector<std::pair<int, int>>& current) {
     const FoldCollapses fc = collapse_folds(M, current);
     if (fc.count == 0) break;
     total += fc.count;
-    // pairs of two untouched faces carry over (renumbered); faces with a merged corner are
-    // tested again
-    std::vector<std::pair<int, int>> prev;
-    for (const auto& p : current) {
-      const int a = fc.face_to_new[p.first], b = fc.face_to_new[p.second];
-      if (a >= 0 && b >= 0) prev.emplace_back(std::min(a, b), std::max(a, b));
-    }
-    std::sort(prev.begin(), prev.end());
-    auto after = merge_intersections(prev, fc.changed, self_intersections(M.V, M.F, fc.changed));
+    auto after = carry_intersections(M.V, M.F, current, fc.face_to_new, fc.changed);
     current = untangle(M.V, M.F, std::move(after), kUntangleRounds);
   }
   return total;

@@ -146,8 +146,6 @@ std::vector<double> vertex_footprints(const std::vector<Eigen::Vector3d>& V, con
 }
 
 namespace {
-// Vertex X in front of view c, inside its image and not behind the view's z-buffer by more
-// than tol_px pixel footprints; p receives its projection.
 // X's pixel p in view c (false when behind the camera or outside the image), and its depth d.
 inline bool pixel_of(const Eigen::Vector3d& X, const Camera& c, Eigen::Vector2d& p, double& d) {
   d = c.depth(X);
@@ -160,6 +158,8 @@ inline bool unoccluded(const Camera& c, const ViewRaster& r, double tol_px, cons
   const int x = static_cast<int>(round_nearest(p.x())), y = static_cast<int>(round_nearest(p.y()));
   return !(d > r.depth.at<float>(y, x) + tol_px * d / c.focal());
 }
+// Vertex X in front of view c, inside its image and not behind the view's z-buffer by more
+// than tol_px pixel footprints; p receives its projection.
 inline bool visible_in(const Eigen::Vector3d& X, const Camera& c, const ViewRaster& r, double tol_px,
                        Eigen::Vector2d& p) {
   double d;

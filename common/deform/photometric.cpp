@@ -486,7 +486,6 @@ std::vector<double> photometric_steps(const PhotometricGradient& pg, const Topol
     h.swap(h2);
     n.swap(n2);
   }
-
   std::vector<double> pos;
   for (double x : h)
     if (x > 0) pos.push_back(x);

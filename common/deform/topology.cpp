@@ -72,14 +72,9 @@ Topology build_topology(const std::vector<Eigen::Vector3i>& F, int nv) {
     t.nbr[fill[e[1]]++] = e[0];
   }
   for (int v = 0; v < nv; ++v) std::sort(t.nbr.begin() + t.nbr_start[v], t.nbr.begin() + t.nbr_start[v + 1]);
-  t.vf_start.assign(nv + 1, 0);
-  for (const auto& f : F)
-    for (int k = 0; k < 3; ++k) t.vf_start[f[k] + 1]++;
-  for (int v = 0; v < nv; ++v) t.vf_start[v + 1] += t.vf_start[v];
-  t.vf.resize(t.vf_start[nv]);
-  fill.assign(t.vf_start.begin(), t.vf_start.end() - 1);
-  for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) t.vf[fill[F[f][k]]++] = f;  // ascending f
+  VertexFaces vf(F, nv);
+  t.vf_start = std::move(vf.start);
+  t.vf = std::move(vf.faces);
   return t;
 }
 
