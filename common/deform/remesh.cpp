@@ -115,9 +115,7 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
     const auto& t = m.F[f];
     const auto& fe = topo.face_e[f];
     const int c = mark[fe[0]] + mark[fe[1]] + mark[fe[2]];
-    if (track) origin.resize(F.size() + (c == 0 ? 1 : c + 1), -1);
     if (c == 0) {
-      if (track) origin.back() = m.origin[f];
       F.push_back(t);
     } else if (c == 1) {
       int k = 0;
@@ -147,6 +145,7 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
       F.emplace_back(m2, m1, t[2]);
       F.emplace_back(m0, m1, m2);
     }
+    if (track) origin.resize(F.size(), c == 0 ? m.origin[f] : -1);  // split faces are new
   }
   m.F.swap(F);
   if (track) m.origin.swap(origin);
