@@ -27,6 +27,9 @@ namespace {
 
 constexpr int kUntangleRounds = 8;
 constexpr int kFoldRounds = 4;
+// Rings over which the last photometric steps are averaged before they join the next ones
+// (momentum): on a mesh of 1.35-3 px edges about a Gaussian of 5 px (sigma) of the images in use.
+constexpr int kMomentumRounds = 12;
 
 // Wall and process CPU seconds (all threads) of the parts of an iteration (logged;
 // bench/deform_parts.py sums them).
@@ -178,13 +181,15 @@ void reorder_for_locality(RemeshMesh& m) {
   std::sort(key.begin(), key.end());
   std::vector<int> id(nv);
   std::vector<Eigen::Vector3d> V(nv);
-  std::vector<double> fp(nv);
+  std::vector<double> fp(nv), last_step(m.last_step.empty() ? 0 : nv);
   for (int k = 0; k < nv; ++k) {
     const int v = key[k].second;
     id[v] = k;
     V[k] = m.V[v];
     fp[k] = m.fp[v];
+    if (!last_step.empty()) last_step[k] = m.last_step[v];
   }
+  m.last_step.swap(last_step);
   std::vector<std::pair<int, int>> fk(nf);
   for (int f = 0; f < nf; ++f) {
     const auto& t = m.F[f];
@@ -292,6 +297,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
   M.V = start.V;
   M.F = start.F;
   M.fp = vertex_footprints(M.V, scene.cams, fallback_fp);
+  M.last_step.assign(M.V.size(), 0.0);
   reorder_for_locality(M);
 
   Result res;
@@ -366,13 +372,31 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     // of weak windows follow the noise; the whole step on the full images, whose noise floor
     // (photometric_steps) holds those back instead
     const double w_photo = st.photo_level == 0 ? 1.0 : opt.w_photo;
+    // Momentum on the reduced images: the photometric steps taken in the last iteration,
+    // smoothed over kMomentumRounds rings (about 5 pixels of the images in use), times
+    // photo_momentum, join this iteration's. A cut's lid over a cavity, moving down as a
+    // whole at a fraction of a pixel an iteration, keeps its pace; steps that follow the
+    // noise vary from vertex to vertex and average out ("Momentum", docs/deform.md).
+    const bool momentum = !fphoto.empty() && st.photo_level >= 1 && opt.photo_momentum > 0;
+    std::vector<double> inertia;
+    if (momentum) {
+      inertia = M.last_step;
+      ring_average(inertia, topo, kMomentumRounds);
+    }
+    std::vector<double> photo_step(nv, 0.0), clamped(nv, 1.0);
     std::vector<Eigen::Vector3d> move(nv);
     for (int v = 0; v < nv; ++v) {
       Eigen::Vector3d d = fs[v] + opt.w_silhouette * (fsil[v] + fspread[v] * N[v]);
-      if (!fphoto.empty() && fsil[v].squaredNorm() == 0) d += w_photo * fphoto[v] * N[v];
+      if (!fphoto.empty() && fsil[v].squaredNorm() == 0) {
+        photo_step[v] = w_photo * fphoto[v] + (momentum ? opt.photo_momentum * inertia[v] : 0.0);
+        d += photo_step[v] * N[v];
+      }
       const double lim = opt.max_move_px * M.fp[v];
       const double l = d.norm();
-      if (l > lim) d *= lim / l;
+      if (l > lim) {
+        clamped[v] = lim / l;
+        d *= clamped[v];
+      }
       move[v] = d;
     }
 
@@ -417,6 +441,8 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
       st.rim_vertices += rim[v] > 0;
       st.spread_vertices += fspread[v] != 0;
     }
+    // the photometric part of each move made (the next iteration's momentum); none on the full images
+    for (int v = 0; v < nv; ++v) M.last_step[v] = momentum ? photo_step[v] * clamped[v] * scale[v] : 0.0;
     st.mean_move = nv ? sum_move / nv : 0;
     st.mean_move_px = nv ? sum_px / nv : 0;
     st.max_move_px = max_px;

@@ -37,6 +37,7 @@ struct Options {
   int photo_coarsest_level = 4;   // the force starts on the images reduced this many times ...
   int photo_level_iterations = 7; // ... spending this many iterations on each reduced level
   double photo_noise_floor = 0.003;  // full images: curvature floor per pixel pair (normalised gradient^2 per pixel^2)
+  double photo_momentum = 0.7;    // reduced images: this share of the last photometric step, smoothed, joins the next
   // step control and remeshing
   double max_move_px = 3.0;       // largest move of a vertex per iteration (full-resolution pixels, finest view)
   double max_edge_px = 3.0;       // split edges longer than this in their finest view (pixels of mesh_level)
@@ -83,6 +84,7 @@ struct Options {
         {"deform.photo_coarsest_level", &Options::photo_coarsest_level},
         {"deform.photo_level_iterations", &Options::photo_level_iterations},
         {"deform.photo_noise_floor", &Options::photo_noise_floor},
+        {"deform.photo_momentum", &Options::photo_momentum},
         {"deform.max_move_px", &Options::max_move_px},
         {"deform.max_edge_px", &Options::max_edge_px},
         {"deform.min_edge_px", &Options::min_edge_px},

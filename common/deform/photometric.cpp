@@ -466,26 +466,9 @@ std::vector<double> photometric_steps(const PhotometricGradient& pg, const Topol
   const int nv = static_cast<int>(pg.grad.size());
   require(topo.num_vertices == nv && static_cast<int>(fp.size()) == nv && pg.pairs.size() == pg.hess.size(),
           "photometric_steps: topology, footprints and gradient disagree");
-  std::vector<double> g = pg.grad, h = pg.hess, n = pg.pairs, g2(nv), h2(nv), n2(nv);
+  std::vector<double> g = pg.grad, h = pg.hess, n = pg.pairs;
   const int rounds = kRingRounds << std::max(0, level - mesh_level);
-  for (int r = 0; r < rounds; ++r) {
-#pragma omp parallel for schedule(static)
-    for (int v = 0; v < nv; ++v) {
-      double sg = g[v], sh = h[v], sn = n[v];
-      for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) {
-        sg += g[topo.nbr[q]];
-        sh += h[topo.nbr[q]];
-        sn += n[topo.nbr[q]];
-      }
-      const double k = 1.0 + topo.degree(v);
-      g2[v] = sg / k;
-      h2[v] = sh / k;
-      n2[v] = sn / k;
-    }
-    g.swap(g2);
-    h.swap(h2);
-    n.swap(n2);
-  }
+  for (auto* x : {&g, &h, &n}) ring_average(*x, topo, rounds);
   std::vector<double> pos;
   for (double x : h)
     if (x > 0) pos.push_back(x);

@@ -52,6 +52,7 @@ struct CollapseBatch {
                 std::span<const int> na, std::span<const int> nb) {
     m.V[a] = p;
     m.fp[a] = fp;
+    if (!m.last_step.empty()) m.last_step[a] = 0.5 * (m.last_step[a] + m.last_step[b]);
     remap[b] = a;
     face_dead[f1] = face_dead[f2] = 1;
     merged[a] = merged[b] = 1;
@@ -104,6 +105,7 @@ std::int64_t split_long_edges(RemeshMesh& m, double max_px) {
       mid[e] = static_cast<int>(m.V.size());
       m.V.push_back(0.5 * (m.V[a] + m.V[b]));
       m.fp.push_back(0.5 * (m.fp[a] + m.fp[b]));
+      if (!m.last_step.empty()) m.last_step.push_back(0.5 * (m.last_step[a] + m.last_step[b]));
       ++count;
     }
   if (count == 0) return 0;
@@ -166,18 +168,20 @@ void compact(RemeshMesh& m) {
   for (const auto& t : F)
     for (int k = 0; k < 3; ++k) id[t[k]] = 0;
   std::vector<Eigen::Vector3d> V;
-  std::vector<double> fp;
+  std::vector<double> fp, last_step;
   for (size_t v = 0; v < m.V.size(); ++v)
     if (id[v] == 0) {
       id[v] = static_cast<int>(V.size());
       V.push_back(m.V[v]);
       fp.push_back(m.fp[v]);
+      if (!m.last_step.empty()) last_step.push_back(m.last_step[v]);
     }
   for (auto& t : F)
     for (int k = 0; k < 3; ++k) t[k] = id[t[k]];
   m.V.swap(V);
   m.F.swap(F);
   m.fp.swap(fp);
+  m.last_step.swap(last_step);
 }
 
 std::int64_t collapse_short_edges(RemeshMesh& m, double min_px, double needle_ratio, double max_px) {

@@ -20,6 +20,10 @@ struct RemeshMesh {
   // Per face, when tracked (not empty): the face it was when the tracking began, or -1 when
   // an operation made it or moved a corner. Every operation below keeps it.
   std::vector<int> origin;
+  // Per vertex, when not empty: the photometric step it took in the last iteration (world
+  // units along its normal; deform's momentum). A split's new vertex and a collapse's merged
+  // one take the mean of the two ends.
+  std::vector<double> last_step;
 };
 
 // Length of edge (a, b) in pixels.

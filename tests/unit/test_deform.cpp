@@ -487,6 +487,50 @@ TEST(DeformRemesh, RemeshingTracksTheFacesItLeavesAlone) {
   expect_closed_genus(to_trimesh(m), 0, "after remeshing with tracking");
 }
 
+TEST(DeformRemesh, RemeshingCarriesTheLastStepsWithTheVertices) {
+  // A value linear in the position (here x) stays so: splits put their vertex at the
+  // midpoint and collapses merge there, and both take the mean of the ends' values.
+  const TriMesh s = synth::make_sphere(0.15);
+  RemeshMesh m = from_trimesh(s, 0.1);
+  std::vector<double> len;
+  const Topology topo = build_topology(m.F, static_cast<int>(m.V.size()));
+  for (const auto& e : topo.edge_v) len.push_back(edge_px(m, e[0], e[1]));
+  std::sort(len.begin(), len.end());
+  for (const auto& x : m.V) m.last_step.push_back(x.x());
+  const std::size_t v0 = m.V.size();
+  EXPECT_GT(split_long_edges(m, len[len.size() * 9 / 10]), 0);
+  EXPECT_GT(m.V.size(), v0);
+  EXPECT_GT(collapse_short_edges(m, len[len.size() / 10], 0.2, 1e9), 0);
+  flip_edges(m, 30);
+  compact(m);
+  ASSERT_EQ(m.last_step.size(), m.V.size());
+  for (std::size_t v = 0; v < m.V.size(); ++v) EXPECT_NEAR(m.last_step[v], m.V[v].x(), 1e-12) << "vertex " << v;
+  // without values nothing is carried
+  RemeshMesh plain = from_trimesh(s, 0.1);
+  split_long_edges(plain, len[len.size() * 9 / 10]);
+  compact(plain);
+  EXPECT_TRUE(plain.last_step.empty());
+}
+
+TEST(DeformTopology, RingAverageKeepsConstantsAndSpreadsASpike) {
+  const TriMesh s = synth::make_sphere(0.15);
+  const int nv = static_cast<int>(s.V.size());
+  const Topology topo = build_topology(s.F, nv);
+  std::vector<double> c(nv, 2.5);
+  ring_average(c, topo, 5);
+  for (double x : c) EXPECT_NEAR(x, 2.5, 1e-12);
+  std::vector<double> spike(nv, 0.0);
+  spike[0] = 1.0;
+  ring_average(spike, topo, 1);
+  EXPECT_NEAR(spike[0], 1.0 / (1 + topo.degree(0)), 1e-12);
+  for (int w : topo.neighbours(0)) EXPECT_NEAR(spike[w], 1.0 / (1 + topo.degree(w)), 1e-12);
+  ring_average(spike, topo, 11);
+  double sum = 0, peak = 0;
+  for (double x : spike) sum += x, peak = std::max(peak, x);
+  EXPECT_LT(peak, 0.05);  // a single vertex's value is spread over 12 rings
+  EXPECT_GT(sum, 0.5);
+}
+
 TEST(DeformRemesh, CollapseFoldsRemovesAFoldOverInAVertexFan) {
   // A vertex pushed past one of its neighbours (onto the tangent plane there):
   // its fan folds over that neighbour's, a sub-pixel pleat of triangles sharing a vertex
