@@ -30,6 +30,11 @@ constexpr int kFoldRounds = 4;
 // Rings over which the last photometric steps are averaged before they join the next ones
 // (momentum): on a mesh of 1.35-3 px edges about a Gaussian of 5 px (sigma) of the images in use.
 constexpr int kMomentumRounds = 12;
+// Vertices within this many rings of one whose move an intersection held back carry no
+// momentum (about 5-9 px of the images in use).
+constexpr int kMomentumHeldRings = 3;
+// Rounds of untangling and fold collapses after the last iteration.
+constexpr int kCleanupRounds = 4;
 
 // Wall and process CPU seconds (all threads) of the parts of an iteration (logged;
 // bench/deform_parts.py sums them).
@@ -442,7 +447,22 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
       st.spread_vertices += fspread[v] != 0;
     }
     // the photometric part of each move made (the next iteration's momentum); none on the full images
+    // and none within kMomentumHeldRings of a vertex whose move an intersection held back
+    // (a tight spot: pushing on into it leaves tangles that remeshing turns into intersections)
     for (int v = 0; v < nv; ++v) M.last_step[v] = momentum ? photo_step[v] * clamped[v] * scale[v] : 0.0;
+    if (momentum) {
+      std::vector<char> held(nv, 0);
+      for (int v = 0; v < nv; ++v) held[v] = reduced[v] != 0;
+      for (int r = 0; r < kMomentumHeldRings; ++r) {
+        std::vector<char> grown = held;
+        for (int v = 0; v < nv; ++v)
+          if (held[v])
+            for (int w : topo.neighbours(v)) grown[w] = 1;
+        held.swap(grown);
+      }
+      for (int v = 0; v < nv; ++v)
+        if (held[v]) M.last_step[v] = 0.0;
+    }
     st.mean_move = nv ? sum_move / nv : 0;
     st.mean_move_px = nv ? sum_px / nv : 0;
     st.max_move_px = max_px;
@@ -485,6 +505,13 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     res.iterations.push_back(st);
   }
 
+  // The last remeshing's intersections have no next iteration to untangle them: more rounds
+  // of untangling and fold collapses, until none is left or kCleanupRounds are spent.
+  for (int r = 0; r < kCleanupRounds && !current.empty(); ++r) {
+    current = untangle(M.V, M.F, std::move(current), 2 * kUntangleRounds);
+    const std::int64_t folds = unfold(M, current);
+    info("deform: cleanup ", r, ": ", current.size(), " intersecting triangle pairs left (", folds, " fold-over collapses)");
+  }
   res.mesh.V = M.V;
   res.mesh.F = M.F;
   res.final_intersections = static_cast<std::int64_t>(current.size());
