@@ -36,6 +36,14 @@ TriMesh to_trimesh(const RemeshMesh& m) {
   t.F = m.F;
   return t;
 }
+// The mesh's edge lengths in pixels, ascending.
+std::vector<double> sorted_edge_px(const RemeshMesh& m) {
+  const Topology topo = build_topology(m.F, static_cast<int>(m.V.size()));
+  std::vector<double> len;
+  for (const auto& e : topo.edge_v) len.push_back(edge_px(m, e[0], e[1]));
+  std::sort(len.begin(), len.end());
+  return len;
+}
 double max_edge(const RemeshMesh& m) {
   const Topology topo = build_topology(m.F, static_cast<int>(m.V.size()));
   double mx = 0;
@@ -455,10 +463,7 @@ TEST(DeformOptions, TheMeshFollowsTheImagesInUse) {
 TEST(DeformRemesh, RemeshingTracksTheFacesItLeavesAlone) {
   const TriMesh s = synth::make_sphere(0.15);
   RemeshMesh m = from_trimesh(s, 0.1);
-  std::vector<double> len;
-  const Topology topo = build_topology(m.F, static_cast<int>(m.V.size()));
-  for (const auto& e : topo.edge_v) len.push_back(edge_px(m, e[0], e[1]));
-  std::sort(len.begin(), len.end());
+  const std::vector<double> len = sorted_edge_px(m);
   const std::vector<Eigen::Vector3d> V0 = m.V;
   const std::vector<Eigen::Vector3i> F0 = m.F;
   m.origin.resize(F0.size());
@@ -492,10 +497,7 @@ TEST(DeformRemesh, RemeshingCarriesTheLastStepsWithTheVertices) {
   // midpoint and collapses merge there, and both take the mean of the ends' values.
   const TriMesh s = synth::make_sphere(0.15);
   RemeshMesh m = from_trimesh(s, 0.1);
-  std::vector<double> len;
-  const Topology topo = build_topology(m.F, static_cast<int>(m.V.size()));
-  for (const auto& e : topo.edge_v) len.push_back(edge_px(m, e[0], e[1]));
-  std::sort(len.begin(), len.end());
+  const std::vector<double> len = sorted_edge_px(m);
   for (const auto& x : m.V) m.last_step.push_back(x.x());
   const std::size_t v0 = m.V.size();
   EXPECT_GT(split_long_edges(m, len[len.size() * 9 / 10]), 0);
