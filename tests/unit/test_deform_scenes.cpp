@@ -338,6 +338,6 @@ TEST(DeformScene, MomentumKeepsASurfaceMovingAsAWholeOnTheReducedLevels) {
     expect_same_topology(with);
     const double mean_with = with.after.all.accuracy.mean / d.px, mean_without = without.after.all.accuracy.mean / d.px;
     std::printf("  texture %.2f: mean distance %.3f px with momentum, %.3f without\n", texture, mean_with, mean_without);
-    EXPECT_LT(mean_with, 0.97 * mean_without);  // measured 0.600 and 0.633; weak: 1.080 and 1.252
+    EXPECT_LT(mean_with, 0.97 * mean_without);  // measured 0.599 and 0.633; weak: 1.131 and 1.252
   }
 }
