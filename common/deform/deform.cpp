@@ -388,7 +388,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
       inertia = M.last_step;
       ring_average(inertia, topo, kMomentumRounds);
     }
-    std::vector<double> photo_step(nv, 0.0), clamped(nv, 1.0);
+    std::vector<double> photo_step(nv, 0.0);  // along the normal, after the clamp
     std::vector<Eigen::Vector3d> move(nv);
     for (int v = 0; v < nv; ++v) {
       Eigen::Vector3d d = fs[v] + opt.w_silhouette * (fsil[v] + fspread[v] * N[v]);
@@ -399,8 +399,8 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
       const double lim = opt.max_move_px * M.fp[v];
       const double l = d.norm();
       if (l > lim) {
-        clamped[v] = lim / l;
-        d *= clamped[v];
+        d *= lim / l;
+        photo_step[v] *= lim / l;
       }
       move[v] = d;
     }
@@ -449,7 +449,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     // the photometric part of each move made (the next iteration's momentum); none on the full images
     // and none within kMomentumHeldRings of a vertex whose move an intersection held back
     // (a tight spot: pushing on into it leaves tangles that remeshing turns into intersections)
-    for (int v = 0; v < nv; ++v) M.last_step[v] = momentum ? photo_step[v] * clamped[v] * scale[v] : 0.0;
+    for (int v = 0; v < nv; ++v) M.last_step[v] = momentum ? photo_step[v] * scale[v] : 0.0;
     if (momentum) {
       std::vector<char> held(nv, 0);
       for (int v = 0; v < nv; ++v) held[v] = reduced[v] != 0;
