@@ -33,9 +33,12 @@ constexpr double kRobust = 0.1;
 constexpr double kMinCos = 0.2;
 // A point is seen in view j when it lies at most this many pixel footprints behind j's z-buffer.
 constexpr double kDepthTolPx = 1.5;
-// photometric_steps: damping (share of the median curvature), rounds of 1-ring averaging (on a
-// mesh whose edges are measured in the level's pixels), largest step (pixels of the level).
+// photometric_steps: damping on the full images (share of the median curvature) and on the
+// reduced ones (share of the median curvature per pixel pair, times the vertex's pairs), rounds
+// of 1-ring averaging (on a mesh whose edges are measured in the level's pixels), largest step
+// (pixels of the level).
 constexpr double kDamping = 0.1;
+constexpr double kPairDamping = 0.2;
 constexpr int kRingRounds = 2;
 constexpr double kMaxStepPx = 2.0;
 
@@ -469,13 +472,18 @@ std::vector<double> photometric_steps(const PhotometricGradient& pg, const Topol
   std::vector<double> g = pg.grad, h = pg.hess, n = pg.pairs;
   const int rounds = kRingRounds << std::max(0, level - mesh_level);
   for (auto* x : {&g, &h, &n}) ring_average(*x, topo, rounds);
+  // The damping. On the reduced images it is per pixel pair, so that a vertex few views see (a
+  // cavity's deep part, 2-7 views) takes the step its windows warrant rather than one cut short
+  // by a damping set by the mesh's busier vertices ("Damping", docs/deform.md). On the full
+  // images a share of the median curvature, and the noise floor below.
+  const bool per_pair = level >= 1;
   std::vector<double> pos;
-  for (double x : h)
-    if (x > 0) pos.push_back(x);
-  double damping = 0;
+  for (int v = 0; v < nv; ++v)
+    if (h[v] > 0 && n[v] > 0) pos.push_back(per_pair ? h[v] / n[v] : h[v]);
+  double damping = 0;  // per pixel pair on the reduced images, per vertex on the full ones
   if (!pos.empty()) {
     std::nth_element(pos.begin(), pos.begin() + pos.size() / 2, pos.end());
-    damping = kDamping * pos[pos.size() / 2];
+    damping = (per_pair ? kPairDamping : kDamping) * pos[pos.size() / 2];
   }
   std::vector<double> step(nv, 0.0);
   const double max_px = kMaxStepPx * static_cast<double>(1 << level);
@@ -484,7 +492,7 @@ std::vector<double> photometric_steps(const PhotometricGradient& pg, const Topol
     const double lim = max_px * fp[v];
     // the noise floor: as if each pixel pair also saw a normalised gradient of sqrt(floor) a pixel
     const double floor = level == 0 ? noise_floor * n[v] / (fp[v] * fp[v]) : 0.0;
-    step[v] = std::clamp(-g[v] / (h[v] + damping + floor), -lim, lim);
+    step[v] = std::clamp(-g[v] / (h[v] + (per_pair ? damping * n[v] : damping) + floor), -lim, lim);
   }
   return step;
 }

@@ -66,12 +66,14 @@ PhotometricGradient photometric_gradient(const std::vector<Eigen::Vector3d>& V, 
 // Per vertex, the step along its normal (world units) toward the minimum of the energy:
 // g, h and the pairs n averaged over 2 x 2^(level - mesh_level) 1-rings (about a pixel of the
 // level's images on a mesh of ~3 px edges measured at pyramid level mesh_level), step =
-// -g / (h + 0.1 median(h) + floor), clamped to 2 pixels of the level's images (fp: each
-// vertex's full-resolution pixel footprint). On the full images (level 0) floor =
-// noise_floor n / fp^2, an absolute damping: a vertex whose windows match with less image
-// gradient than that (plaster, weak texture: the step would follow the noise) moves little,
-// while the relative damping alone leaves every step as long where all windows are weak.
-// 0 where no pixel sees it.
+// -g / (h + damping + floor), clamped to 2 pixels of the level's images (fp: each vertex's
+// full-resolution pixel footprint). On the reduced images (level >= 1) damping =
+// 0.2 median(h / n) n, per pixel pair: a vertex that few views see is damped as little, for
+// its windows, as one that many see. On the full images (level 0) damping = 0.1 median(h) and
+// floor = noise_floor n / fp^2, an absolute damping: a vertex whose windows match with less
+// image gradient than that (plaster, weak texture: the step would follow the noise) moves
+// little, while the relative damping alone leaves every step as long where all windows are
+// weak. 0 where no pixel sees it.
 std::vector<double> photometric_steps(const PhotometricGradient& g, const Topology& topo, int level, int mesh_level,
                                       const std::vector<double>& fp, double noise_floor = 0);
 

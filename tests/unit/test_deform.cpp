@@ -607,3 +607,33 @@ TEST(DeformPhotometric, TheNoiseFloorDampsWeakWindowsOnTheFullImagesOnly) {
   // on a reduced level the floor does nothing
   EXPECT_EQ(steps(-0.001, 0.01, 1, 0.001), steps(-0.001, 0.01, 1, 0.0));
 }
+
+// The damping on the reduced images is per pixel pair: a cap that few views see (a tenth of
+// the pairs, the same windows) takes the same step as the rest of the surface; on the full
+// images, damped by a share of the median curvature, its step is cut short.
+TEST(DeformPhotometric, OnTheReducedImagesTheDampingIsPerPixelPair) {
+  const TriMesh m = synth::make_object("sphere", 0.3);
+  const int nv = static_cast<int>(m.V.size());
+  const deform::Topology topo = deform::build_topology(m.F, nv);
+  const std::vector<double> fp(nv, 1.0);
+  int top = 0, bottom = 0;
+  for (int v = 0; v < nv; ++v) {
+    if (m.V[v].z() > m.V[top].z()) top = v;
+    if (m.V[v].z() < m.V[bottom].z()) bottom = v;
+  }
+  const double zmin = m.V[bottom].z(), zmax = m.V[top].z();
+  deform::PhotometricGradient g;
+  for (int v = 0; v < nv; ++v) {
+    // the lowest fifth is seen by a tenth of the pairs; gradient and curvature per pair the same
+    const double pairs = m.V[v].z() < zmin + 0.2 * (zmax - zmin) ? 10.0 : 100.0;
+    g.pairs.push_back(pairs);
+    g.hess.push_back(pairs * 1.0);
+    g.grad.push_back(pairs * -0.01);
+  }
+  const auto reduced = deform::photometric_steps(g, topo, 1, 1, fp);
+  EXPECT_NEAR(reduced[top], 0.01 / 1.2, 1e-9);  // damping 0.2 of the curvature per pair
+  EXPECT_NEAR(reduced[bottom], 0.01 / 1.2, 1e-9);
+  const auto full = deform::photometric_steps(g, topo, 0, 0, fp);
+  EXPECT_NEAR(full[top], 1.0 / 110.0, 1e-9);    // damping 0.1 of the median curvature (100)
+  EXPECT_NEAR(full[bottom], 0.1 / 20.0, 1e-9);  // the same damping on a tenth of the curvature
+}
