@@ -334,10 +334,19 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
 
     const std::vector<Eigen::Vector3d> fs = smooth_force(M.V, topo, N, opt);
     std::vector<int> rim;
-    const std::vector<Eigen::Vector3d> fsil = silhouette_force(M.V, N, M.fp, scene.cams, sd, rasters, opt, rim);
+    std::vector<Eigen::Vector3d> fsil = silhouette_force(M.V, N, M.fp, scene.cams, sd, rasters, opt, rim);
+    // Each correction is shared with the vertex's one-ring (its mean over the ring, zeros
+    // included): a rim vertex moved alone raises a crease along its contour generator, and
+    // where the images barely hold the surface (plaster) the creases of many views become
+    // terraces ("The silhouette over the one-ring", docs/deform.md). The photometric force
+    // still moves every vertex without a correction of its own.
+    std::vector<char> own_correction(nv, 0);
+    for (int v = 0; v < nv; ++v) own_correction[v] = fsil[v].squaredNorm() > 0;
+    ring_average(fsil, topo, 1);
     pt.lap(kPartSmoothSil);
-    // The photometric step along the normal; where the silhouette force acts (disagreement
-    // beyond sil_tolerance_px) the silhouettes win: both move a rim vertex across the ray.
+    // The photometric step along the normal; where a vertex has a silhouette correction of its
+    // own (disagreement beyond sil_tolerance_px) the silhouettes win: both move a rim vertex
+    // across the ray.
     std::vector<double> fphoto;
     st.photo_level = opt.w_photo > 0 ? opt.photo_level(it) : -1;
     if (st.photo_level >= 0) {
@@ -392,7 +401,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     std::vector<Eigen::Vector3d> move(nv);
     for (int v = 0; v < nv; ++v) {
       Eigen::Vector3d d = fs[v] + opt.w_silhouette * (fsil[v] + fspread[v] * N[v]);
-      if (!fphoto.empty() && fsil[v].squaredNorm() == 0) {
+      if (!fphoto.empty() && !own_correction[v]) {
         photo_step[v] = w_photo * fphoto[v] + (momentum ? opt.photo_momentum * inertia[v] : 0.0);
         d += photo_step[v] * N[v];
       }

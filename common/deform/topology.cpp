@@ -97,18 +97,24 @@ void VertexFaces::neighbours(const std::vector<Eigen::Vector3i>& F, int v, std::
   out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
-void ring_average(std::vector<double>& x, const Topology& topo, int rounds) {
+namespace {
+template <class T>
+void ring_average_of(std::vector<T>& x, const Topology& topo, int rounds) {
   const int nv = static_cast<int>(x.size());
-  std::vector<double> y(nv);
+  std::vector<T> y(nv);
   for (int r = 0; r < rounds; ++r) {
 #pragma omp parallel for schedule(static)
     for (int v = 0; v < nv; ++v) {
-      double s = x[v];
+      T s = x[v];
       for (int q = topo.nbr_start[v]; q < topo.nbr_start[v + 1]; ++q) s += x[topo.nbr[q]];
       y[v] = s / (1.0 + topo.degree(v));
     }
     x.swap(y);
   }
 }
+}  // namespace
+
+void ring_average(std::vector<double>& x, const Topology& topo, int rounds) { ring_average_of(x, topo, rounds); }
+void ring_average(std::vector<Eigen::Vector3d>& x, const Topology& topo, int rounds) { ring_average_of(x, topo, rounds); }
 
 }  // namespace tetmvs::deform

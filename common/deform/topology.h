@@ -33,6 +33,7 @@ Topology build_topology(const std::vector<Eigen::Vector3i>& F, int num_vertices)
 // `rounds` times, each value replaced by the mean of itself and its neighbours' (all at once:
 // the result does not depend on the vertex order or the thread count).
 void ring_average(std::vector<double>& x, const Topology& topo, int rounds);
+void ring_average(std::vector<Eigen::Vector3d>& x, const Topology& topo, int rounds);
 
 // Each vertex's faces (compressed rows, ascending) and, read from them, its neighbours:
 // for local work on a large mesh (deform's untangling and fold collapses), which needs

@@ -401,6 +401,35 @@ TEST(DeformSilhouette, SpreadMovesTheVerticesAroundAnOutwardPullAndFades) {
   EXPECT_NEAR(silhouette_spread(V, N, fp, topo, fsil, o)[centre + 2], 1.5 * (1 - 2.0 / 4), 1e-12);
 }
 
+TEST(DeformSilhouette, ACorrectionAlongAContourIsSharedWithTheRowsBesideIt) {
+  // The silhouette corrections of one iteration are averaged over each vertex's one-ring
+  // (deform.cpp): a contour generator's row of rim vertices pulled out by 1 px does not rise
+  // alone as a crease; the rows beside it take a share and the total pull is kept.
+  const int n = 21;
+  std::vector<Eigen::Vector3i> F;
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      const int a = y * n + x;
+      F.emplace_back(a, a + 1, a + n + 1);
+      F.emplace_back(a, a + n + 1, a + n);
+    }
+  const Topology topo = build_topology(F, n * n);
+  std::vector<Eigen::Vector3d> f(n * n, Eigen::Vector3d::Zero());
+  for (int x = 0; x < n; ++x) f[10 * n + x] = Eigen::Vector3d(0, 0, 1.0);  // the rim row y = 10
+  ring_average(f, topo, 1);
+  for (int x = 1; x + 1 < n; ++x) {  // interior vertices: six neighbours, two of them on the row
+    EXPECT_NEAR(f[10 * n + x].z(), 3.0 / 7, 1e-12);
+    EXPECT_NEAR(f[9 * n + x].z(), 2.0 / 7, 1e-12);
+    EXPECT_NEAR(f[11 * n + x].z(), 2.0 / 7, 1e-12);
+    EXPECT_EQ(f[8 * n + x].z(), 0.0);
+    EXPECT_EQ(f[12 * n + x].z(), 0.0);
+    // the crease (the row above the rows beside it) drops from 1 px to 1/7; the column's sum stays 1
+    EXPECT_NEAR(f[10 * n + x].z() - f[9 * n + x].z(), 1.0 / 7, 1e-12);
+    EXPECT_NEAR(f[9 * n + x].z() + f[10 * n + x].z() + f[11 * n + x].z(), 1.0, 1e-12);
+  }
+  for (const Eigen::Vector3d& d : f) EXPECT_EQ(d.head<2>().squaredNorm(), 0.0);  // the direction is kept
+}
+
 TEST(DeformOptions, DefaultsAreValidAndBadValuesRejected) {
   const Options o = Options::from_params(Params::defaults());
   // (that the fields' defaults are defaults.json's values: test_param_binding.cpp)
