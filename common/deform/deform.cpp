@@ -334,14 +334,13 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
 
     const std::vector<Eigen::Vector3d> fs = smooth_force(M.V, topo, N, opt);
     std::vector<int> rim;
-    std::vector<Eigen::Vector3d> fsil = silhouette_force(M.V, N, M.fp, scene.cams, sd, rasters, opt, rim);
+    const std::vector<Eigen::Vector3d> own = silhouette_force(M.V, N, M.fp, scene.cams, sd, rasters, opt, rim);
     // Each correction is shared with the vertex's one-ring (its mean over the ring, zeros
     // included): a rim vertex moved alone raises a crease along its contour generator, and
     // where the images barely hold the surface (plaster) the creases of many views become
-    // terraces ("The silhouette over the one-ring", docs/deform.md). The photometric force
-    // still moves every vertex without a correction of its own.
-    std::vector<char> own_correction(nv, 0);
-    for (int v = 0; v < nv; ++v) own_correction[v] = fsil[v].squaredNorm() > 0;
+    // terraces ("The silhouette over the one-ring", docs/deform.md). The reach below and the
+    // photometric force still go by each vertex's own correction.
+    std::vector<Eigen::Vector3d> fsil = own;
     ring_average(fsil, topo, 1);
     pt.lap(kPartSmoothSil);
     // The photometric step along the normal; where a vertex has a silhouette correction of its
@@ -380,7 +379,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     constexpr int kSpreadMinLevel = 2;
     const bool spreading = st.photo_level < 0 || st.photo_level >= kSpreadMinLevel;
     const std::vector<double> fspread = silhouette_spread(
-        M.V, N, M.fp, topo, fsil,
+        M.V, N, M.fp, topo, own,
         {spreading ? opt.sil_spread_px : 0, std::ldexp(1.0, opt.mesh_level(it)), 0.5 * opt.sil_max_px});
     // The share of the photometric step taken: w_photo on the reduced images, where the steps
     // of weak windows follow the noise; the whole step on the full images, whose noise floor
@@ -401,7 +400,7 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     std::vector<Eigen::Vector3d> move(nv);
     for (int v = 0; v < nv; ++v) {
       Eigen::Vector3d d = fs[v] + opt.w_silhouette * (fsil[v] + fspread[v] * N[v]);
-      if (!fphoto.empty() && !own_correction[v]) {
+      if (!fphoto.empty() && own[v].squaredNorm() == 0) {
         photo_step[v] = w_photo * fphoto[v] + (momentum ? opt.photo_momentum * inertia[v] : 0.0);
         d += photo_step[v] * N[v];
       }
