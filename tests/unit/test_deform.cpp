@@ -23,6 +23,19 @@ using namespace tetmvs;
 using namespace tetmvs::deform;
 
 namespace {
+// The faces of an n x n grid of vertices (vertex y * n + x), each square split along its
+// diagonal: interior vertices have six neighbours.
+std::vector<Eigen::Vector3i> grid_faces(int n) {
+  std::vector<Eigen::Vector3i> F;
+  for (int y = 0; y + 1 < n; ++y)
+    for (int x = 0; x + 1 < n; ++x) {
+      const int a = y * n + x;
+      F.emplace_back(a, a + 1, a + n + 1);
+      F.emplace_back(a, a + n + 1, a + n);
+    }
+  return F;
+}
+
 RemeshMesh from_trimesh(const TriMesh& t, double fp = 1.0) {
   RemeshMesh m;
   m.V = t.V;
@@ -364,15 +377,9 @@ TEST(DeformSilhouette, SpreadMovesTheVerticesAroundAnOutwardPullAndFades) {
   // a flat grid of 21 x 21 vertices 1 unit apart (footprint 1: units are pixels), normals +z
   const int n = 21;
   std::vector<Eigen::Vector3d> V, N(n * n, Eigen::Vector3d::UnitZ());
-  std::vector<Eigen::Vector3i> F;
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) V.emplace_back(x, y, 0);
-  for (int y = 0; y + 1 < n; ++y)
-    for (int x = 0; x + 1 < n; ++x) {
-      const int a = y * n + x;
-      F.emplace_back(a, a + 1, a + n + 1);
-      F.emplace_back(a, a + n + 1, a + n);
-    }
+  const std::vector<Eigen::Vector3i> F = grid_faces(n);
   const Topology topo = build_topology(F, n * n);
   const std::vector<double> fp(n * n, 1.0);
   const int centre = 10 * n + 10;
@@ -406,14 +413,7 @@ TEST(DeformSilhouette, ACorrectionAlongAContourIsSharedWithTheRowsBesideIt) {
   // (deform.cpp): a contour generator's row of rim vertices pulled out by 1 px does not rise
   // alone as a crease; the rows beside it take a share and the total pull is kept.
   const int n = 21;
-  std::vector<Eigen::Vector3i> F;
-  for (int y = 0; y + 1 < n; ++y)
-    for (int x = 0; x + 1 < n; ++x) {
-      const int a = y * n + x;
-      F.emplace_back(a, a + 1, a + n + 1);
-      F.emplace_back(a, a + n + 1, a + n);
-    }
-  const Topology topo = build_topology(F, n * n);
+  const Topology topo = build_topology(grid_faces(n), n * n);
   std::vector<Eigen::Vector3d> f(n * n, Eigen::Vector3d::Zero());
   for (int x = 0; x < n; ++x) f[10 * n + x] = Eigen::Vector3d(0, 0, 1.0);  // the rim row y = 10
   ring_average(f, topo, 1);
