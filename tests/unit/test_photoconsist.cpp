@@ -31,6 +31,7 @@
 #include "common/synth/scene.h"
 #include "common/tetmesh/refine.h"
 #include "sanitized.h"
+#include "test_photo_scene.h"
 
 using namespace tetmvs;
 namespace pc = tetmvs::photoconsist;
