@@ -1,7 +1,7 @@
 #include "common/cut/maxflow.h"
 
 #include <algorithm>
-#include <limits>
+#include <cmath>
 
 #include "common/error.h"
 
@@ -13,13 +13,12 @@ namespace {
 constexpr std::uint32_t kFreeNode = 0xFFFFFFFFu;  // in no tree
 constexpr std::uint32_t kTerminal = 0xFFFFFFFEu;  // child of the source or the sink
 constexpr std::uint32_t kOrphan = 0xFFFFFFFDu;    // lost its parent arc, being re-attached
-constexpr std::uint32_t kNoDist = 0x7FFFFFFFu;
+constexpr std::uint32_t kNoLabel = 0x7FFFFFFFu;
 
 struct Node {
   std::uint32_t parent = kFreeNode;
   std::uint32_t next = kFreeNode;  // next in the active queue; itself when last; kFreeNode when not queued
-  std::uint32_t stamp = 0;         // time at which dist was last known right
-  std::uint32_t dist : 31 = 0;     // arcs to the terminal along the tree
+  std::uint32_t label : 31 = 0;    // depth: 1 for a terminal's child, above its parent's otherwise
   std::uint32_t sink : 1 = 0;      // 1: in the sink tree
 };
 
@@ -34,7 +33,7 @@ class Solver {
       if (t == 0) continue;
       node_[i].parent = kTerminal;
       node_[i].sink = t < 0;
-      node_[i].dist = 1;
+      node_[i].label = 1;
       activate(i);
     }
     std::uint32_t current = kFreeNode;
@@ -45,8 +44,8 @@ class Solver {
         if (node_[i].parent == kFreeNode) i = kFreeNode;
       }
       if (i == kFreeNode && (i = pop_active()) == kFreeNode) break;
+      reached_[node_[i].sink] = node_[i].label;
       const std::uint32_t meet = grow(i);  // arc from the source tree to the sink tree
-      ++time_;
       if (meet == kFreeNode) {
         current = kFreeNode;
         continue;
@@ -58,8 +57,6 @@ class Solver {
     }
     return flow_;
   }
-
-  bool source_side(std::uint32_t i) const { return node_[i].parent != kFreeNode && !node_[i].sink; }
 
  private:
   // Augments every path source -> i -> j -> sink of one arc, node by node: the bulk of the
@@ -118,16 +115,10 @@ class Solver {
       if (nj.parent == kFreeNode) {
         nj.sink = sink;
         nj.parent = s;
-        nj.stamp = ni.stamp;
-        nj.dist = ni.dist + 1;
+        nj.label = ni.label + 1;
         activate(j);
       } else if (nj.sink != sink) {
         return sink ? s : a;
-      } else if (nj.stamp <= ni.stamp && nj.dist > ni.dist) {
-        // a shorter way to the terminal
-        nj.parent = s;
-        nj.stamp = ni.stamp;
-        nj.dist = ni.dist + 1;
       }
     }
     return kFreeNode;
@@ -190,65 +181,68 @@ class Solver {
     flow_ += b;
   }
 
-  // Arcs from node j to its terminal along the tree, or kNoDist when j's path meets an
-  // orphan. Marks the nodes on the path with their distance for this round.
-  std::uint32_t origin_dist(std::uint32_t j) {
-    std::uint32_t steps = 0, d = kNoDist;
-    for (std::uint32_t v = j;; ++steps) {
-      const Node& nv = node_[v];
-      if (nv.stamp == time_) {
-        d = steps + nv.dist;
-        break;
-      }
-      if (nv.parent == kTerminal) {
-        d = steps + 1;
-        break;
-      }
-      if (nv.parent == kOrphan || nv.parent == kFreeNode) return kNoDist;
-      v = g_.head[nv.parent];
-    }
-    std::uint32_t dv = d;
-    for (std::uint32_t v = j; node_[v].stamp != time_; v = g_.head[node_[v].parent]) {
-      node_[v].stamp = time_;
-      node_[v].dist = dv--;
-      if (node_[v].parent == kTerminal) break;
-    }
-    return d;
+  // Arc a from i to j has a residual reverse arc j -> i (source tree) or is residual itself
+  // (sink tree): j could be i's parent.
+  bool feeds(std::uint32_t a, bool sink) const {
+    return (sink ? g_.cap[a] : g_.cap[g_.sister[a]]) > 0;
   }
 
+  // Finds each orphan a new parent. Labels only grow along a path from the terminal, so a
+  // parent with a smaller label can never be a descendant: an orphan takes the neighbour in
+  // its tree with the smallest label below its own (which may itself be an orphan not yet
+  // handled: if that one moves, this one is orphaned again). Without one, the orphan is
+  // relabelled under the smallest-labelled neighbour that is not an orphan, if that depth has
+  // already been reached by the growth; its children that are no deeper become orphans.
+  // Otherwise it leaves the tree: its children become orphans, and its neighbours that could
+  // reach it again become active. (The relabelling stops at the growth's depth so that a part
+  // cut off from the terminal empties at once instead of relabelling itself deeper and deeper.)
   void adopt() {
     for (std::size_t k = 0; k < orphans_.size(); ++k) {
       const std::uint32_t i = orphans_[k];
-      const bool sink = node_[i].sink;
-      // a new parent: a neighbour in the same tree with residual capacity towards i (source
-      // tree) or from i (sink tree) whose own path reaches the terminal; the nearest
-      std::uint32_t best = kFreeNode, best_d = kNoDist;
+      Node& ni = node_[i];
+      const bool sink = ni.sink;
+      if (sink ? g_.terminal[i] < 0 : g_.terminal[i] > 0) {  // (a node of label 1 whose arc saturated)
+        ni.parent = kTerminal;
+        ni.label = 1;
+        continue;
+      }
+      std::uint32_t nearer = kFreeNode, nearer_label = ni.label;
+      std::uint32_t any = kFreeNode, any_label = kNoLabel;  // not an orphan
+      for (std::uint32_t a = g_.first[i], e = g_.first[i + 1]; a < e; ++a) {
+        const Node& nj = node_[g_.head[a]];
+        if (nj.parent == kFreeNode || nj.sink != sink || !feeds(a, sink)) continue;
+        if (nj.label < nearer_label) nearer = a, nearer_label = nj.label;
+        if (nj.parent != kOrphan && nj.label < any_label) any = a, any_label = nj.label;
+      }
+      if (nearer != kFreeNode) {
+        ni.parent = nearer;
+        continue;
+      }
+      if (any != kFreeNode && any_label + 1 <= reached_[sink]) {
+        ni.parent = any;
+        ni.label = any_label + 1;
+        orphan_children(i, sink, ni.label);
+        continue;
+      }
+      orphan_children(i, sink, kNoLabel);
+      ni.parent = kFreeNode;
       for (std::uint32_t a = g_.first[i], e = g_.first[i + 1]; a < e; ++a) {
         const std::uint32_t j = g_.head[a];
         const Node& nj = node_[j];
-        if (nj.parent == kFreeNode || nj.sink != sink) continue;
-        if ((sink ? g_.cap[a] : g_.cap[g_.sister[a]]) <= 0) continue;
-        const std::uint32_t d = origin_dist(j);
-        if (d < best_d) best = a, best_d = d;
-      }
-      if (best != kFreeNode) {
-        node_[i].parent = best;
-        node_[i].stamp = time_;
-        node_[i].dist = best_d + 1;
-        continue;
-      }
-      // none: i leaves the tree; its children become orphans, and the neighbours that
-      // could reach it again become active
-      node_[i].parent = kFreeNode;
-      for (std::uint32_t a = g_.first[i], e = g_.first[i + 1]; a < e; ++a) {
-        const std::uint32_t j = g_.head[a];
-        Node& nj = node_[j];
-        if (nj.parent == kFreeNode || nj.sink != sink) continue;
-        if ((sink ? g_.cap[a] : g_.cap[g_.sister[a]]) > 0) activate(j);
-        if (nj.parent != kTerminal && nj.parent != kOrphan && g_.head[nj.parent] == i) make_orphan(j);
+        if (nj.parent != kFreeNode && nj.sink == sink && feeds(a, sink)) activate(j);
       }
     }
     orphans_.clear();
+  }
+
+  // Orphans the children of i whose label is at most `upto`.
+  void orphan_children(std::uint32_t i, bool sink, std::uint32_t upto) {
+    for (std::uint32_t a = g_.first[i], e = g_.first[i + 1]; a < e; ++a) {
+      const std::uint32_t j = g_.head[a];
+      const Node& nj = node_[j];
+      if (nj.parent == kFreeNode || nj.parent == kTerminal || nj.parent == kOrphan || nj.sink != sink) continue;
+      if (g_.head[nj.parent] == i && nj.label <= upto) make_orphan(j);
+    }
   }
 
   FlowGraph& g_;
@@ -256,7 +250,7 @@ class Solver {
   std::vector<Node> node_;
   std::vector<std::uint32_t> orphans_;
   std::uint32_t q_first_ = kFreeNode, q_last_ = kFreeNode;
-  std::uint32_t time_ = 1;
+  std::uint32_t reached_[2] = {1, 1};  // label of the node last grown from, per tree
   double flow_ = 0;
 };
 
@@ -268,16 +262,56 @@ std::int64_t FlowGraph::bytes() const {
                                    terminal.size() * (sizeof(double) + sizeof(Node)));
 }
 
+namespace {
+
+// A residual below this share of a typical capacity is rounding left by the augmentations
+// (the order in which they subtract decides whether it is exactly 0 or 1e-16 of a capacity).
+constexpr double kRoundingShare = 1e-9;
+
+// The median of up to 4096 positive arc capacities taken at a fixed stride (the terminal
+// capacities when there is no arc); 0 when there is none.
+double typical_capacity(const FlowGraph& g) {
+  std::vector<double> sample;
+  const auto take = [&](const std::vector<double>& x, bool magnitude) {
+    const std::size_t stride = std::max<std::size_t>(1, x.size() / 4096);
+    for (std::size_t k = 0; k < x.size(); k += stride) {
+      const double c = magnitude ? std::abs(x[k]) : x[k];
+      if (c > 0) sample.push_back(c);
+    }
+  };
+  take(g.cap, false);
+  if (sample.empty()) take(g.terminal, true);
+  if (sample.empty()) return 0;
+  std::nth_element(sample.begin(), sample.begin() + static_cast<std::ptrdiff_t>(sample.size() / 2), sample.end());
+  return sample[sample.size() / 2];
+}
+
+}  // namespace
+
 double max_flow(FlowGraph& g, std::vector<std::uint8_t>& source_side) {
   const std::uint32_t n = g.nodes();
   require(g.terminal.size() == n, "max_flow: one terminal capacity per node expected");
   require(g.sister.size() == g.head.size() && g.cap.size() == g.head.size() && (n == 0 || g.first[n] == g.head.size()),
           "max_flow: inconsistent arc arrays");
   require(g.head.size() < kOrphan, "max_flow: too many arcs (", g.head.size(), ")");
-  Solver s(g);
-  const double flow = s.run();
+  const double tolerance = kRoundingShare * typical_capacity(g);
+  double flow = 0;
+  {
+    Solver s(g);
+    flow = s.run();
+  }
+  // the nodes reachable from the source over residual capacities above the rounding
   source_side.assign(n, 0);
-  for (std::uint32_t i = 0; i < n; ++i) source_side[i] = s.source_side(i);
+  std::vector<std::uint32_t> queue;
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (g.terminal[i] > tolerance) source_side[i] = 1, queue.push_back(i);
+  for (std::size_t k = 0; k < queue.size(); ++k) {
+    const std::uint32_t i = queue[k];
+    for (std::uint32_t a = g.first[i], e = g.first[i + 1]; a < e; ++a) {
+      const std::uint32_t j = g.head[a];
+      if (!source_side[j] && g.cap[a] > tolerance) source_side[j] = 1, queue.push_back(j);
+    }
+  }
   return flow;
 }
 

@@ -6,10 +6,18 @@
 //
 // Two search trees grow from the source and the sink over arcs with residual capacity;
 // where they meet, the path is augmented, and the nodes cut off by saturated arcs
-// (orphans) look for a new parent in their tree or become free. At the end the source
-// tree holds exactly the nodes reachable from the source in the residual graph: the
-// source side of the minimum cut whose source side is smallest (unique for a given
-// graph, whatever the order of the search). Sequential and deterministic.
+// (orphans) look for a new parent in their tree or become free. The trees carry depth
+// labels, as in Goldberg et al.'s incremental breadth-first search (ESA 2011): an orphan
+// takes a neighbour of smaller label as its parent without walking its path to the
+// terminal, which BK's adoption does and which cost most of the time on the cut's graphs
+// (tetrahedral meshes whose deep interior has no terminal capacity: paths of hundreds of
+// arcs). Sequential and deterministic.
+//
+// The source side is the set of nodes reachable from the source in the final residual
+// graph: the source side of the minimum cut whose source side is smallest, which every
+// maximum flow gives. Residuals below a billionth of a typical capacity count as
+// saturated: they are rounding, and whether one is exactly 0 depends on the order of the
+// augmentations.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -31,7 +39,8 @@ struct FlowGraph {
 };
 
 // Runs the algorithm on g (its capacities become residuals). source_side receives one flag
-// per node: 1 when the node is reachable from the source in the residual graph. Returns
+// per node: 1 when the node is reachable from the source in the residual graph (over
+// residuals above the rounding). Returns
 // the flow through the arcs and terminal capacities (not counting any flow the caller
 // already cancelled between a node's two terminal capacities).
 double max_flow(FlowGraph& g, std::vector<std::uint8_t>& source_side);

@@ -194,3 +194,19 @@ TEST(MaxFlow, ChainSaturatesItsWeakestArc) {
   EXPECT_DOUBLE_EQ(max_flow(g, side), 1.0);
   EXPECT_EQ(side, (std::vector<std::uint8_t>{1, 1, 0}));
 }
+
+TEST(MaxFlow, RoundingLeftInAnArcDoesNotDecideTheSide) {
+  // source -> 0 -> 1 -> sink: the arc holds 0.1 + 0.2 (0.30000000000000004) and the sink
+  // takes 0.3, so the arc keeps 5.6e-17 after the flow: rounding, not capacity. Node 1 is
+  // on the sink side, as it would be with exact arithmetic (a tie, smallest source side).
+  FlowGraph g;
+  g.first = {0, 1, 2};
+  g.head = {1, 0};
+  g.sister = {1, 0};
+  g.cap = {0.1 + 0.2, 0};
+  g.terminal = {1.0, -0.3};
+  std::vector<std::uint8_t> side;
+  EXPECT_NEAR(max_flow(g, side), 0.3, 1e-15);
+  ASSERT_GT(g.cap[0], 0.0);  // the rounding is there
+  EXPECT_EQ(side, (std::vector<std::uint8_t>{1, 0}));
+}
