@@ -49,16 +49,41 @@ bool splat_of(const Camera& cam, const Eigen::Vector3d& X, double z, double cell
   return s.u >= -s.r && s.u < cam.width + s.r && s.w >= -s.r && s.w < cam.height + s.r;
 }
 
+// Radii up to this have their discs' half-widths tabulated (disc_half_widths).
+constexpr int kTableRadius = 32;
+
+// The largest du with du^2 + dw^2 <= r^2, for r = 1..kTableRadius and dw = 0..r: entry
+// r (r + 1) / 2 - 1 + dw.
+const std::vector<std::int32_t>& disc_half_widths() {
+  static const std::vector<std::int32_t> table = [] {
+    std::vector<std::int32_t> t;
+    for (std::int64_t r = 1; r <= kTableRadius; ++r)
+      for (std::int64_t dw = 0; dw <= r; ++dw) {
+        std::int64_t du = 0;
+        while ((du + 1) * (du + 1) + dw * dw <= r * r) ++du;
+        t.push_back(static_cast<std::int32_t>(du));
+      }
+    return t;
+  }();
+  return table;
+}
+
 // The pixels of splat s in a W x H image, those with du^2 + dw^2 <= r^2 from its centre:
 // f(w, u0, u1) per image row w, for the columns u0..u1 (inclusive) of that row.
 template <class F>
 void for_splat_rows(const Splat& s, int W, int H, F&& f) {
   const std::int64_t r2 = std::int64_t{s.r} * s.r;
+  const std::int32_t* half = s.r <= kTableRadius ? disc_half_widths().data() + (s.r * (s.r + 1) / 2 - 1) : nullptr;
   for (int w = std::max(s.w - s.r, 0); w <= std::min(s.w + s.r, H - 1); ++w) {
-    const std::int64_t rest = r2 - std::int64_t{w - s.w} * (w - s.w);
-    auto du = static_cast<std::int64_t>(std::sqrt(static_cast<double>(rest)));  // the largest du, du^2 <= rest
-    while ((du + 1) * (du + 1) <= rest) ++du;
-    while (du * du > rest) --du;
+    std::int64_t du;
+    if (half) {
+      du = half[std::abs(w - s.w)];
+    } else {
+      const std::int64_t rest = r2 - std::int64_t{w - s.w} * (w - s.w);
+      du = static_cast<std::int64_t>(std::sqrt(static_cast<double>(rest)));  // the largest du, du^2 <= rest
+      while ((du + 1) * (du + 1) <= rest) ++du;
+      while (du * du > rest) --du;
+    }
     const auto a = static_cast<int>(std::max<std::int64_t>(s.u - du, 0));
     const auto b = static_cast<int>(std::min<std::int64_t>(s.u + du, W - 1));
     if (a <= b) f(w, a, b);
@@ -140,29 +165,36 @@ DepthMaps depth_maps_of(const Scene& s, const QPoints& q, double cell, bool far_
     }
     cv::Mat front = -max_of_splats(splats, cam.width, cam.height);
     front.setTo(0, front == std::numeric_limits<float>::infinity());
+    // every point's splat in this view, once, with its depth and which way it faces (n . (C - X))
+    struct Seen {
+      Splat s;
+      double z, facing;
+    };
+    std::vector<Seen> all;
+    if (far_side || with_exits)
+      for (std::int64_t p = 0; p < q.size(); ++p) {
+        const Eigen::Vector3d X = q.pos(p);
+        const double facing = q.nrm(p).dot(C - X);
+        const double z = cam.depth(X);
+        if (z > 0 && splat_of(cam, X, z, cell, static_cast<float>(z), sp)) all.push_back({sp, z, facing});
+      }
     splats.clear();
-    for (std::int64_t p = 0; p < (far_side ? q.size() : 0); ++p) {
-      const Eigen::Vector3d X = q.pos(p);
-      if (!(q.nrm(p).dot(C - X) < 0)) continue;  // not facing away
-      const double z = cam.depth(X);
-      if (z > 0 && splat_of(cam, X, z, cell, static_cast<float>(z), sp)) splats.push_back(sp);
-    }
+    if (far_side)
+      for (const Seen& x : all)
+        if (x.facing < 0) splats.push_back(x.s);  // facing away
     cv::Mat back = max_of_splats(splats, cam.width, cam.height);
     back.setTo(0, back == -std::numeric_limits<float>::infinity());
     if (with_exits) {
       cv::Mat exit = cv::Mat::zeros(cam.height, cam.width, CV_32F);
       cv::Mat entry = cv::Mat::zeros(cam.height, cam.width, CV_32F);
       for (const bool exits : {true, false})
-        for (std::int64_t p = 0; p < q.size(); ++p) {
-          const Eigen::Vector3d X = q.pos(p);
-          const double facing = q.nrm(p).dot(C - X);
-          if (exits ? facing >= 0 : facing <= 0) continue;
-          const double z = cam.depth(X);
-          const float zf = static_cast<float>(z);
-          if (!(z > 0 && splat_of(cam, X, z, cell, zf, sp))) continue;
+        for (const Seen& x : all) {
+          if (exits ? x.facing >= 0 : x.facing <= 0) continue;
+          const double z = x.z;
+          const float zf = x.s.value;
           const cv::Mat& before = exits ? front : exit;
           cv::Mat& target = exits ? exit : entry;
-          for_splat_rows(sp, cam.width, cam.height, [&](int w, int a, int b) {
+          for_splat_rows(x.s, cam.width, cam.height, [&](int w, int a, int b) {
             const float* bef = before.ptr<float>(w);
             float* row = target.ptr<float>(w);
             for (int u = a; u <= b; ++u)
