@@ -201,7 +201,7 @@ class Solver {
       const std::uint32_t i = orphans_[k];
       Node& ni = node_[i];
       const bool sink = ni.sink;
-      if (sink ? g_.terminal[i] < 0 : g_.terminal[i] > 0) {  // (a node of label 1 whose arc saturated)
+      if (sink ? g_.terminal[i] < 0 : g_.terminal[i] > 0) {  // (a node with terminal capacity left is its child)
         ni.parent = kTerminal;
         ni.label = 1;
         continue;
