@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
 #include <boost/graph/compressed_sparse_row_graph.hpp>
 #include <boost/property_map/property_map.hpp>
@@ -209,4 +210,41 @@ TEST(MaxFlow, RoundingLeftInAnArcDoesNotDecideTheSide) {
   EXPECT_NEAR(max_flow(g, side), 0.3, 1e-15);
   ASSERT_GT(g.cap[0], 0.0);  // the rounding is there
   EXPECT_EQ(side, (std::vector<std::uint8_t>{1, 0}));
+}
+
+// The cut's graphs: a solid whose deep interior has no terminal capacity, a shell tied to the
+// source and the air around it to the sink, so that augmenting paths run long and orphans are
+// relabelled and freed often. A 3D grid, 6-neighbour, integer capacities (exact arithmetic:
+// the source side must equal Boost's, ties and all).
+TEST(MaxFlow, MatchesBoostOnAGridWithAnInteriorWithoutTerminals) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 4; ++trial) {
+    const int n = 14 + 3 * trial;
+    Problem p;
+    p.n = static_cast<std::uint32_t>(n * n * n);
+    const auto id = [n](int x, int y, int z) { return static_cast<std::uint32_t>((z * n + y) * n + x); };
+    std::uniform_int_distribution<int> icap(1, 6), tcap(0, 3);
+    for (int z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+          if (x + 1 < n) p.edges.push_back({id(x, y, z), id(x + 1, y, z), double(icap(rng)), double(icap(rng))});
+          if (y + 1 < n) p.edges.push_back({id(x, y, z), id(x, y + 1, z), double(icap(rng)), double(icap(rng))});
+          if (z + 1 < n) p.edges.push_back({id(x, y, z), id(x, y, z + 1), double(icap(rng)), double(icap(rng))});
+          // distance from the grid's centre: interior (no terminal), shell (source), air (sink)
+          const double c = (n - 1) / 2.0, r = std::sqrt((x - c) * (x - c) + (y - c) * (y - c) + (z - c) * (z - c));
+          const double shell = 0.3 * n, air = 0.42 * n;
+          p.source.push_back(r >= shell && r < air ? double(tcap(rng)) : 0.0);
+          p.sink.push_back(r >= air ? double(tcap(rng)) : 0.0);
+        }
+    double cancelled = 0;
+    FlowGraph g = make_graph(p, cancelled);
+    std::vector<std::uint8_t> side;
+    const double flow = cancelled + max_flow(g, side);
+    std::vector<std::uint8_t> reachable;
+    const double expect = boost_flow(p, reachable);
+    SCOPED_TRACE(trial);
+    EXPECT_GT(expect, 0.0);
+    EXPECT_DOUBLE_EQ(flow, expect);
+    EXPECT_EQ(side, reachable);
+  }
 }
