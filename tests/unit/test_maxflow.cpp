@@ -148,6 +148,21 @@ double cut_capacity(const Problem& p, const std::vector<std::uint8_t>& in) {
   return c;
 }
 
+// max_flow and Boost on the same problem: the flows (max_flow's with the cancelled terminal
+// flow added), max_flow's source side and the nodes Boost's residual graph reaches.
+struct Solved {
+  double flow = 0, expect = 0;
+  std::vector<std::uint8_t> side, reachable;
+};
+Solved solve_both(const Problem& p) {
+  Solved r;
+  double cancelled = 0;
+  FlowGraph g = make_graph(p, cancelled);
+  r.flow = cancelled + max_flow(g, r.side);
+  r.expect = boost_flow(p, r.reachable);
+  return r;
+}
+
 }  // namespace
 
 TEST(MaxFlow, MatchesBoostOnRandomGraphs) {
@@ -155,17 +170,12 @@ TEST(MaxFlow, MatchesBoostOnRandomGraphs) {
   for (int trial = 0; trial < 40; ++trial) {
     const bool integer = trial % 2 == 1;
     const Problem p = random_problem(50 + 37 * trial, 2 + trial % 6, integer, rng);
-    double cancelled = 0;
-    FlowGraph g = make_graph(p, cancelled);
-    std::vector<std::uint8_t> side;
-    const double flow = cancelled + max_flow(g, side);
-    std::vector<std::uint8_t> reachable;
-    const double expect = boost_flow(p, reachable);
+    const Solved r = solve_both(p);
     SCOPED_TRACE(trial);
-    EXPECT_NEAR(flow, expect, 1e-9 * (1 + expect));
-    EXPECT_NEAR(cut_capacity(p, side), flow, 1e-9 * (1 + flow));
+    EXPECT_NEAR(r.flow, r.expect, 1e-9 * (1 + r.expect));
+    EXPECT_NEAR(cut_capacity(p, r.side), r.flow, 1e-9 * (1 + r.flow));
     if (integer) {
-      EXPECT_EQ(side, reachable);
+      EXPECT_EQ(r.side, r.reachable);
     }  // exact arithmetic: the smallest cut, ties and all
   }
 }
@@ -236,15 +246,10 @@ TEST(MaxFlow, MatchesBoostOnAGridWithAnInteriorWithoutTerminals) {
           p.source.push_back(r >= shell && r < air ? double(tcap(rng)) : 0.0);
           p.sink.push_back(r >= air ? double(tcap(rng)) : 0.0);
         }
-    double cancelled = 0;
-    FlowGraph g = make_graph(p, cancelled);
-    std::vector<std::uint8_t> side;
-    const double flow = cancelled + max_flow(g, side);
-    std::vector<std::uint8_t> reachable;
-    const double expect = boost_flow(p, reachable);
+    const Solved r = solve_both(p);
     SCOPED_TRACE(trial);
-    EXPECT_GT(expect, 0.0);
-    EXPECT_DOUBLE_EQ(flow, expect);
-    EXPECT_EQ(side, reachable);
+    EXPECT_GT(r.expect, 0.0);
+    EXPECT_DOUBLE_EQ(r.flow, r.expect);
+    EXPECT_EQ(r.side, r.reachable);
   }
 }
