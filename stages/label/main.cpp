@@ -16,8 +16,13 @@
 using namespace tetmvs;
 
 // per pixel of every view: Q's four depth maps (front, back, near, far), and with the seen-free
-// rule the exit and entry maps and their packed copies (DTU scan 37: +1.2 GB for 94 M pixels)
-constexpr double kLabelBytesPerCell = 72, kLabelBytesPerPixel = 16, kSeenFreeBytesPerPixel = 13;
+// rule the exit and entry maps and their packed copies (DTU scan 37: +1.2 GB for 94 M pixels);
+// per point of Q: the points as read, filtered and reduced to the views that see them, the
+// lists of each view's points and every thread's splats of a view; and the libraries' and
+// threads' working set (the last two fitted to the peaks of dinoRing's and eight synthetic
+// scenes' runs at LEVELS=3, whose points took 100-250 bytes each over the other terms).
+constexpr double kLabelBytesPerCell = 72, kLabelBytesPerPixel = 16, kSeenFreeBytesPerPixel = 13,
+                 kLabelBytesPerPoint = 250, kLabelWorkingBytes = 200e6;
 
 int main(int argc, char** argv) {
   StageCli cli("label",
@@ -36,21 +41,25 @@ int main(int argc, char** argv) {
     const std::string one_sided = adapt_to_one_sided_capture(scene, ctx.params);
     if (!one_sided.empty()) info("label: ", one_sided);
     const label::Options o = label::Options::from_params(ctx.params);
+    auto sf = h5::File::open(scores_file, "tetmvs.scores");
     {
       // the mesh, per-cell results (label, reason, votes, two evidences, view counts, the
       // rules' proposals, the cells' centroids), and
       // per view a few float images (depth maps of Q, distance transform of the silhouette;
       // the exit and entry maps of the seen-free rule)
       const MeshCounts mc = mesh_counts(mesh_file);
+      const h5::Shape q_shape = sf.shape_of("/points/score");
+      const double points = q_shape.empty() ? 0.0 : static_cast<double>(q_shape[0]);
       const double pixels = static_cast<double>(scene.size()) * scene.cams[0].width * scene.cams[0].height;
       const double per_pixel = kLabelBytesPerPixel + (o.seen_free_views > 0 ? kSeenFreeBytesPerPixel : 0);
-      const double bytes = mc.read_bytes() + kLabelBytesPerCell * mc.cells + per_pixel * pixels;
+      const double bytes = mc.read_bytes() + kLabelBytesPerCell * mc.cells + per_pixel * pixels +
+                           kLabelBytesPerPoint * points + kLabelWorkingBytes;
       std::ostringstream what;
-      what << "label: " << mesh_file << " (" << mc.cells << " cells, " << scene.size() << " views)";
+      what << "label: " << mesh_file << " (" << mc.cells << " cells, " << scene.size() << " views, "
+           << static_cast<std::int64_t>(points) << " points)";
       check_memory_budget(ctx.params, bytes, what.str(), "use a coarser final mesh (fewer LEVELS)");
     }
     const tet::TetMesh mesh = tet::read_mesh(mesh_file);
-    auto sf = h5::File::open(scores_file, "tetmvs.scores");
     const QPoints q = read_qpoints(sf, scene.size());
     info("label: ", mesh.num_cells(), " cells, ", q.size(), " points, ", scene.num_silhouettes(), " silhouettes");
     const label::Result r = label::label_cells(mesh, scene, q, o);
