@@ -98,7 +98,7 @@ CutResult min_cut(const tet::TetMesh& m, const std::vector<float>& omega,
     if (vis) {
       const double s = opt.beta * std::cbrt(m.cell_volume(c) * m.cell_volume(c));
       unary_in[c] = s * (*opt.inside_evidence)[c];    // cut when c ends outside
-      unary_out[c] = s * (*opt.outside_evidence)[c];  // cut when c ends inside
+      unary_out[c] = CutOptions::kOutsideShare * s * (*opt.outside_evidence)[c];  // cut when c ends inside
       to_source += unary_in[c];
       to_sink += unary_out[c];
     }

@@ -30,9 +30,15 @@ struct CutOptions {
   double sigma = 0.3;   // Eq. 1's sigma
   // Optional visibility term (an extension of the paper; 0 = the paper's graph): a free
   // cell c pays beta * s_c * inside_evidence[c] when it ends outside and
-  // beta * s_c * outside_evidence[c] when it ends inside, with s_c = volume^(2/3) (an area,
-  // like the face costs). It keeps the cut from shrinking onto a few interior seeds.
-  double beta = 0.3;
+  // kOutsideShare * beta * s_c * outside_evidence[c] when it ends inside, with
+  // s_c = volume^(2/3) (an area, like the face costs). It keeps the cut from shrinking onto a
+  // few interior seeds.
+  double beta = 0.6;
+  // The outside evidence (the share of the views that see through a cell) counts half as
+  // much as the inside evidence (hidden behind Q's visible side, within its shell, in the
+  // views that see the cell): at equal weights it pulls the first cut into convex bodies
+  // where a few views see through gaps in Q (docs/architecture.md, "Visibility term").
+  static constexpr double kOutsideShare = 0.5;
   const std::vector<float>* inside_evidence = nullptr;
   const std::vector<float>* outside_evidence = nullptr;
   void check() const;  // throws Error on a value outside its documented range
