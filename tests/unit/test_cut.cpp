@@ -61,6 +61,28 @@ TEST(GraphCut, UniformCostsGiveTheSeedCellOnly) {
   EXPECT_NEAR(r.energy, r.max_flow, 1e-9 * r.energy);
 }
 
+TEST(GraphCut, OutsideEvidenceCountsHalfAsMuchAsInsideEvidence) {
+  // Every free cell holds inside evidence 1 and outside evidence e; with the visibility term
+  // far above the face costs, a cell ends inside exactly when its outside evidence's half
+  // weighs less than its inside evidence (e < 2).
+  const auto m = cube_mesh(4, 1);
+  const auto lab = seed_labels(m);
+  std::vector<float> omega(2 * m.num_faces(), 0.0f);
+  std::int64_t free_cells = 0;
+  for (auto l : lab) free_cells += l == kFree;
+  for (const float e : {1.9f, 2.1f}) {
+    const std::vector<float> in(m.num_cells(), 1.0f), out(m.num_cells(), e);
+    CutOptions o{0.5, 0.1};
+    o.beta = 1000;
+    o.inside_evidence = &in;
+    o.outside_evidence = &out;
+    const auto r = min_cut(m, omega, lab, o);
+    std::int64_t inside = 0;
+    for (auto v : r.inside) inside += v;
+    EXPECT_EQ(inside, e < 2 ? free_cells + 1 : 1) << "outside evidence " << e;
+  }
+}
+
 TEST(GraphCut, FollowsPhotoConsistentSphereAndSurfaceIsClosedManifoldOutward) {
   const auto m = cube_mesh(6, 2);
   const double R = 0.6;
