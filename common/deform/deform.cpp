@@ -332,7 +332,11 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     if (it == 0) res.start_iou = st.silhouette_iou;
     pt.lap(kPartRaster);
 
-    const std::vector<Eigen::Vector3d> fs = smooth_force(M.V, topo, N, opt);
+    st.photo_level = opt.w_photo > 0 ? opt.photo_level(it) : -1;
+    // on the full images the curvature fairing replaces the bi-Laplacian: their whole
+    // photometric steps leave a vertex-scale jitter on weak texture (docs/deform.md, "Fairing on
+    // the full images")
+    const std::vector<Eigen::Vector3d> fs = smooth_force(M.V, topo, N, opt, st.photo_level == 0);
     std::vector<int> rim;
     const std::vector<Eigen::Vector3d> own = silhouette_force(M.V, N, M.fp, scene.cams, sd, rasters, opt, rim);
     // Each correction is shared with the vertex's one-ring (its mean over the ring, zeros
@@ -347,7 +351,6 @@ Result deform_mesh(const TriMesh& start, const Scene& scene, const Options& opt)
     // own (disagreement beyond sil_tolerance_px) the silhouettes win: both move a rim vertex
     // across the ray.
     std::vector<double> fphoto;
-    st.photo_level = opt.w_photo > 0 ? opt.photo_level(it) : -1;
     if (st.photo_level >= 0) {
       const int l = st.photo_level;
       if (photo_images.level != l) photo_images = make_photo_level(views, scene.cams, l);

@@ -181,7 +181,7 @@ std::vector<std::uint8_t> vertex_visibility(const std::vector<Eigen::Vector3d>& 
 }
 
 std::vector<Eigen::Vector3d> smooth_force(const std::vector<Eigen::Vector3d>& V, const Topology& topo,
-                                          const std::vector<Eigen::Vector3d>& N, const Options& opt) {
+                                          const std::vector<Eigen::Vector3d>& N, const Options& opt, bool fairing) {
   const int nv = static_cast<int>(V.size());
   std::vector<Eigen::Vector3d> L(nv, Eigen::Vector3d::Zero()), out(nv, Eigen::Vector3d::Zero());
   const auto umbrella = [&](const std::vector<Eigen::Vector3d>& X, int v) {
@@ -193,6 +193,18 @@ std::vector<Eigen::Vector3d> smooth_force(const std::vector<Eigen::Vector3d>& V,
   };
 #pragma omp parallel for schedule(static)
   for (int v = 0; v < nv; ++v) L[v] = umbrella(V, v);
+  if (fairing && opt.smooth_fairing > 0) {
+    std::vector<double> ln(nv), mean(nv);
+    for (int v = 0; v < nv; ++v) ln[v] = mean[v] = L[v].dot(N[v]);
+    ring_average(mean, topo, kFairingRounds);
+#pragma omp parallel for schedule(static)
+    for (int v = 0; v < nv; ++v) {
+      const Eigen::Vector3d& n = N[v];
+      out[v] = opt.smooth_tangent * (L[v] - ln[v] * n) + opt.smooth_normal * ln[v] * n +
+               opt.smooth_fairing * (ln[v] - mean[v]) * n;
+    }
+    return out;
+  }
 #pragma omp parallel for schedule(static)
   for (int v = 0; v < nv; ++v) {
     const Eigen::Vector3d& n = N[v];

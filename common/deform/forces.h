@@ -54,9 +54,18 @@ std::vector<double> vertex_footprints(const std::vector<Eigen::Vector3d>& V, con
 std::vector<std::uint8_t> vertex_visibility(const std::vector<Eigen::Vector3d>& V, const std::vector<Camera>& cams,
                                             const std::vector<ViewRaster>& rasters, double tol_px);
 
-// Smoothness displacement per vertex.
+// Smoothness displacement per vertex: smooth_tangent x the umbrella's tangential part +
+// smooth_normal x its normal part, and along the normal either - smooth_bilaplacian x the
+// bi-Laplacian's normal part or, on the full images (fairing = true, smooth_fairing > 0), the
+// curvature fairing: smooth_fairing x (the umbrella's normal part minus that part's mean
+// over kFairingRounds rounds of one-ring averaging, about 10 pixels on the full images' mesh
+// of ~3-px edges). The fairing evens out the mean curvature at the scale of a few vertices
+// (the jitter that whole photometric steps leave on weak texture) and leaves a sphere's or a
+// cylinder's alone, where the umbrella's normal part (mean-curvature flow) shrinks them.
+constexpr int kFairingRounds = 12;
 std::vector<Eigen::Vector3d> smooth_force(const std::vector<Eigen::Vector3d>& V, const Topology& topo,
-                                          const std::vector<Eigen::Vector3d>& N, const Options& opt);
+                                          const std::vector<Eigen::Vector3d>& N, const Options& opt,
+                                          bool fairing = false);
 
 // Silhouette displacement per vertex (mean over the views where the vertex is on the
 // rim: visible (as vertex_visibility with opt.visibility_tol_px), |n . ray| < rim_cos, within sil_band_px inside the mesh's own rendered

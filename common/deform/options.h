@@ -19,6 +19,7 @@ struct Options {
   double smooth_tangent = 0.5;    // weight of the umbrella's tangential component (mesh relaxation)
   double smooth_normal = 0.05;    // weight of the umbrella's normal component (shrinks: keep small)
   double smooth_bilaplacian = 0.4;  // weight of the bi-Laplacian's normal component (does not shrink spheres); < 0.5
+  double smooth_fairing = 1.2;    // on the full images, instead of the bi-Laplacian: weight of the curvature fairing
   // silhouette force
   double w_silhouette = 1.0;      // fraction of the silhouette correction applied per iteration
   double rim_cos = 0.5;           // a vertex can be on a view's rim when |n . ray| < rim_cos
@@ -68,6 +69,7 @@ struct Options {
         {"deform.smooth_tangent", &Options::smooth_tangent},
         {"deform.smooth_normal", &Options::smooth_normal},
         {"deform.smooth_bilaplacian", &Options::smooth_bilaplacian},
+        {"deform.smooth_fairing", &Options::smooth_fairing},
         {"deform.w_silhouette", &Options::w_silhouette},
         {"deform.rim_cos", &Options::rim_cos},
         {"deform.sil_band_px", &Options::sil_band_px},

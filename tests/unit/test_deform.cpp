@@ -373,6 +373,57 @@ TEST(DeformSmooth, BilaplacianDoesNotShrinkASphereButUmbrellaDoes) {
   EXPECT_LT(std::abs(mb), 0.2 * std::abs(mu));  // bi-Laplacian: far less net normal motion
 }
 
+TEST(DeformSmooth, FairingRemovesJitterWithoutShrinkingASphere) {
+  // a sphere whose vertices are jittered along their normals, checkerboard-like, by 1 % of
+  // the radius: the fairing's normal motion undoes the jitter (opposite to it at nearly
+  // every vertex) and, unlike the umbrella, moves the smooth sphere hardly at all
+  const TriMesh s = synth::make_sphere(0.1);
+  const Topology topo = build_topology(s.F, (int)s.nv());
+  const auto N0 = vertex_normals(s.V, s.F);
+  Options o;
+  o.smooth_tangent = 0;
+  o.smooth_normal = 0;
+  o.smooth_bilaplacian = 0;  // the fairing alone
+  o.smooth_fairing = 1.2;
+  const auto smooth = smooth_force(s.V, topo, N0, o, true);
+  o.smooth_fairing = 0;
+  o.smooth_normal = 1.2;
+  const auto umbrella = smooth_force(s.V, topo, N0, o, true);
+  double mf = 0, mu = 0;
+  for (size_t v = 0; v < s.nv(); ++v) {
+    mf += smooth[v].dot(N0[v]);
+    mu += umbrella[v].dot(N0[v]);
+  }
+  EXPECT_LT(mu / s.nv(), 0);                                   // the umbrella shrinks the sphere
+  EXPECT_LT(std::abs(mf / s.nv()), 0.05 * std::abs(mu / s.nv()));  // the fairing does not
+
+  std::vector<Eigen::Vector3d> V = s.V;
+  std::vector<double> jitter(s.nv());
+  for (size_t v = 0; v < s.nv(); ++v) {
+    jitter[v] = ((v * 2654435761u) % 3 == 0 ? 1.0 : -0.5) * 0.001;  // 1 % of the radius, mean ~0
+    V[v] += jitter[v] * N0[v];
+  }
+  const auto N = vertex_normals(V, s.F);
+  o.smooth_normal = 0;
+  o.smooth_fairing = 1.2;
+  const auto f = smooth_force(V, topo, N, o, true);
+  int against = 0;
+  double before = 0, after = 0;
+  for (size_t v = 0; v < s.nv(); ++v) {
+    const double m = f[v].dot(N[v]);
+    against += m * jitter[v] < 0;
+    before += jitter[v] * jitter[v];
+    after += (jitter[v] + m) * (jitter[v] + m);
+  }
+  EXPECT_GT(against, 0.9 * s.nv());
+  EXPECT_LT(after, 0.5 * before);  // one step removes most of the jitter
+  // off the full images (fairing = false) the bi-Laplacian acts, as before
+  o.smooth_bilaplacian = 0.4;
+  const auto b = smooth_force(V, topo, N, o, false);
+  const auto b0 = smooth_force(V, topo, N, [&] { Options p = o; p.smooth_fairing = 0; return p; }(), false);
+  for (size_t v = 0; v < s.nv(); ++v) ASSERT_EQ(b[v], b0[v]);
+}
+
 TEST(DeformSilhouette, SpreadMovesTheVerticesAroundAnOutwardPullAndFades) {
   // a flat grid of 21 x 21 vertices 1 unit apart (footprint 1: units are pixels), normals +z
   const int n = 21;
