@@ -374,9 +374,9 @@ TEST(DeformSmooth, BilaplacianDoesNotShrinkASphereButUmbrellaDoes) {
 }
 
 TEST(DeformSmooth, FairingRemovesJitterWithoutShrinkingASphere) {
-  // a sphere whose vertices are jittered along their normals, checkerboard-like, by 1 % of
-  // the radius: the fairing's normal motion undoes the jitter (opposite to it at nearly
-  // every vertex) and, unlike the umbrella, moves the smooth sphere hardly at all
+  // the smooth sphere: unlike the umbrella, the fairing hardly moves it; the sphere with its
+  // vertices jittered along their normals (a fixed pattern of +1 % and -0.5 % of the radius):
+  // the fairing's normal motion is against the jitter at nearly every vertex
   const TriMesh s = synth::make_sphere(0.1);
   const Topology topo = build_topology(s.F, (int)s.nv());
   const auto N0 = vertex_normals(s.V, s.F);
